@@ -1,0 +1,100 @@
+"""Scan: LaserScan fields, REP-117 semantics, points, validation."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pvfilter import Scan
+
+
+def make_scan(ranges, **overrides):
+    fields = dict(
+        ranges=ranges, angle_min=0.0, angle_increment=math.pi / 2, range_min=0.1, range_max=10.0
+    )
+    fields.update(overrides)
+    return Scan(**fields)
+
+
+def test_fields_default_and_angle_max_is_derived():
+    scan = make_scan([1.0, 2.0, 3.0], angle_min=-0.5, angle_increment=0.25)
+    assert scan.stamp == 0.0 and scan.time_increment == 0.0 and scan.scan_time == 0.0
+    assert scan.intensities is None
+    assert len(scan) == 3
+    assert scan.angle_max == pytest.approx(0.0)
+    np.testing.assert_allclose(scan.angles(), [-0.5, -0.25, 0.0])
+
+
+def test_ranges_are_a_read_only_float64_copy():
+    source = np.array([1, 2, 3])
+    scan = make_scan(source)
+    source[0] = 9
+    assert scan.ranges.dtype == np.float64
+    assert scan.ranges[0] == 1.0
+    with pytest.raises(ValueError):
+        scan.ranges[0] = 5.0
+
+
+def test_points_are_in_the_sensor_frame_counter_clockwise():
+    # beams at 0, 90, 180, 270 degrees: ahead (+x), left (+y), behind (-x), right (-y)
+    scan = make_scan([1.0, 2.0, 3.0, 4.0])
+    np.testing.assert_allclose(scan.points(), [[1, 0], [0, 2], [-3, 0], [0, -4]], atol=1e-12)
+
+
+def test_rep117_invalid_beams_have_nan_points():
+    scan = make_scan([np.inf, -np.inf, np.nan, 0.05, 11.0, 0.1, 10.0])
+    assert scan.valid_mask().tolist() == [False] * 5 + [True, True]
+    points = scan.points()
+    assert np.isnan(points[:5]).all()
+    assert np.isfinite(points[5:]).all()
+
+
+def test_empty_scan_is_allowed():
+    scan = make_scan([])
+    assert len(scan) == 0
+    assert scan.points().shape == (0, 2)
+    assert scan.angle_max == scan.angle_min
+
+
+def test_with_ranges_keeps_the_other_fields():
+    scan = make_scan([1.0, 2.0], stamp=3.5, intensities=[7.0, 8.0])
+    filtered = scan.with_ranges([np.nan, 2.0])
+    assert filtered.stamp == 3.5
+    assert filtered.intensities.tolist() == [7.0, 8.0]
+    assert np.isnan(filtered.ranges[0])
+    with pytest.raises(ValueError, match=r"^ranges:"):
+        scan.with_ranges([1.0])
+
+
+@pytest.mark.parametrize(
+    ("overrides", "field"),
+    [
+        (dict(ranges=[[1.0, 2.0]]), "ranges"),
+        (dict(ranges=["a"]), "ranges"),
+        (dict(angle_increment=0.0), "angle_increment"),
+        (dict(angle_increment=-0.1), "angle_increment"),
+        (dict(angle_increment=math.nan), "angle_increment"),
+        (dict(range_min=-1.0), "range_min"),
+        (dict(range_min=10.0), "range_max"),
+        (dict(range_max=math.inf), "range_max"),
+        (dict(stamp=math.nan), "stamp"),
+        (dict(scan_time=-0.1), "scan_time"),
+        (dict(intensities=[1.0]), "intensities"),
+    ],
+)
+def test_invalid_fields_raise_a_value_error_naming_the_field(overrides, field):
+    fields = dict(ranges=[1.0, 2.0])
+    fields.update(overrides)
+    with pytest.raises(ValueError, match=f"^{field}:"):
+        make_scan(**fields)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=True, width=64), max_size=50))
+def test_any_ranges_give_one_point_row_per_beam_finite_only_when_valid(ranges):
+    scan = make_scan(ranges)
+    points = scan.points()
+    assert points.shape == (len(ranges), 2)
+    assert (np.isfinite(points).all(axis=1) == scan.valid_mask()).all()
