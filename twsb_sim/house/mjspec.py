@@ -1,0 +1,64 @@
+"""Adding a house to a ``mujoco.MjSpec``."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+
+from twsb_sim.house.model import House, Part
+
+_GEOM_TYPES = {
+    "plane": mujoco.mjtGeom.mjGEOM_PLANE,
+    "box": mujoco.mjtGeom.mjGEOM_BOX,
+    "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+}
+
+
+def _add_part(spec: mujoco.MjSpec, part: Part) -> None:
+    half = part.yaw_rad / 2
+    spec.worldbody.add_geom(
+        name=part.name,
+        type=_GEOM_TYPES[part.shape],
+        size=list(part.size),
+        pos=list(part.pos),
+        quat=[math.cos(half), 0.0, 0.0, math.sin(half)],
+        rgba=list(part.rgba),
+        group=part.group,
+        contype=1,
+        conaffinity=1,
+    )
+
+
+def add_house_to_spec(spec: mujoco.MjSpec, house: House) -> None:
+    """Add every geom of ``house`` to ``spec.worldbody``.
+
+    The geoms are static, in geom groups 0 (floor, walls, door frames), 1 (furniture)
+    and 2 (ceiling), collide with everything (contype = conaffinity = 1) and are named
+    so that ``surface_classes`` can tell what each one is. Each room also gets a
+    ceiling light ``light_<room>`` (no shadows).
+
+    Args:
+        spec: the spec to extend (typically one that already holds the robot).
+        house: the house to add.
+    """
+    for part in house.parts():
+        _add_part(spec, part)
+    for room in house.rooms:
+        # a ceiling light per room, without shadows (cheap to render)
+        spec.worldbody.add_light(
+            name=f"light_{room.name}",
+            pos=[(room.x_min_m + room.x_max_m) / 2, (room.y_min_m + room.y_max_m) / 2,
+                 house.ceiling_height_m - 0.05],
+            dir=[0.0, 0.0, -1.0],
+            castshadow=0,
+            diffuse=[0.35, 0.35, 0.33],
+        )  # fmt: skip
+
+
+def house_spec(house: House) -> mujoco.MjSpec:
+    """A fresh spec holding only ``house``, e.g. for tests and previews."""
+    spec = mujoco.MjSpec()
+    spec.modelname = house.name
+    add_house_to_spec(spec, house)
+    return spec

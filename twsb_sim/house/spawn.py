@@ -1,0 +1,129 @@
+"""Where a robot may start, and how far it can drive straight from there.
+
+The robot is treated as a disc of radius ``ROBOT_RADIUS_M`` moving in the floor plane.
+Obstacles are the footprints of every wall, door jamb and furniture part that reaches
+below ``OBSTACLE_TOP_M`` (door headers do not). A box footprint is inflated by the radius
+into a larger rectangle (not a rounded one), so the clearances are lower bounds: the
+robot can always drive at least ``clear_ahead_m``, sometimes up to ~0.1 m more.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+
+from twsb_sim.house.model import Part, Room, SpawnPose
+
+ROBOT_RADIUS_M = 0.25  # footprint radius of the robot (m)
+OBSTACLE_TOP_M = 1.5  # parts whose bottom is lower than this block the robot (m)
+FREE_MARGIN_M = 0.05  # extra gap between a spawned robot and the nearest obstacle (m)
+GRID_STEP_M = 0.25  # spacing of the candidate start positions (m)
+MAX_CLEARANCE_M = 50.0  # clearances are capped here (m)
+MIN_REVERSE_M = 0.3  # a "lane start" pose keeps at least this much room behind (m)
+
+
+class Obstacles:
+    """Footprints of the parts that block a robot, as arrays for vectorised queries."""
+
+    def __init__(self, parts: Iterable[Part]) -> None:
+        blocking = [
+            p for p in parts if p.shape in ("box", "cylinder") and p.z_min_m < OBSTACLE_TOP_M
+        ]
+        boxes = [p for p in blocking if p.shape == "box"]
+        discs = [p for p in blocking if p.shape == "cylinder"]
+        # per box: centre x, y, half extents x, y, yaw
+        self.boxes = np.array(
+            [(p.pos[0], p.pos[1], p.size[0], p.size[1], p.yaw_rad) for p in boxes], float
+        ).reshape(-1, 5)
+        # per disc: centre x, y, radius
+        self.discs = np.array([(p.pos[0], p.pos[1], p.size[0]) for p in discs], float).reshape(
+            -1, 3
+        )
+
+    def _box_frames(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Points in every box's frame (N, M, 2), and the boxes' cos/sin of yaw (M,)."""
+        c, s = np.cos(self.boxes[:, 4]), np.sin(self.boxes[:, 4])
+        rel = xy[:, None, :] - self.boxes[None, :, :2]
+        local = np.stack(
+            (c * rel[..., 0] + s * rel[..., 1], -s * rel[..., 0] + c * rel[..., 1]), -1
+        )
+        return local, c, s
+
+    def is_free(self, xy: np.ndarray, radius_m: float) -> np.ndarray:
+        """Whether a disc of ``radius_m`` centred at each point (N, 2) touches nothing."""
+        local, _, _ = self._box_frames(xy)
+        inside_box = np.all(np.abs(local) < self.boxes[None, :, 2:4] + radius_m, axis=-1)
+        gap = np.linalg.norm(xy[:, None, :] - self.discs[None, :, :2], axis=-1)
+        inside_disc = gap < self.discs[None, :, 2] + radius_m
+        return ~(inside_box.any(axis=1) | inside_disc.any(axis=1))
+
+    def clearance_m(self, xy: np.ndarray, yaw_rad: np.ndarray, radius_m: float) -> np.ndarray:
+        """How far a disc of ``radius_m`` at each point (N, 2) can move along its heading
+        (N,) before touching an obstacle (m, a lower bound, 0 if it already touches)."""
+        heading = np.stack((np.cos(yaw_rad), np.sin(yaw_rad)), -1)
+        local, c, s = self._box_frames(xy)
+        d_local = np.stack(
+            (
+                c * heading[:, None, 0] + s * heading[:, None, 1],
+                -s * heading[:, None, 0] + c * heading[:, None, 1],
+            ),
+            -1,
+        )
+        d_local = np.where(np.abs(d_local) < 1e-12, 1e-12, d_local)
+        half = self.boxes[None, :, 2:4] + radius_m
+        t1, t2 = (-half - local) / d_local, (half - local) / d_local
+        t_near = np.minimum(t1, t2).max(axis=-1)
+        t_far = np.maximum(t1, t2).min(axis=-1)
+        box_t = np.where((t_near <= t_far) & (t_far >= 0), np.maximum(t_near, 0), np.inf)
+        # disc-disc: solve |p + t d - c| = r_c + radius for the first t >= 0
+        rel = xy[:, None, :] - self.discs[None, :, :2]
+        b = np.einsum("nmk,nk->nm", rel, heading)
+        cc = np.einsum("nmk,nmk->nm", rel, rel) - (self.discs[None, :, 2] + radius_m) ** 2
+        disc = b**2 - cc
+        root = -b - np.sqrt(np.maximum(disc, 0))
+        disc_t = np.where(cc <= 0, 0.0, np.where((disc >= 0) & (root >= 0), root, np.inf))
+        nearest = np.minimum(box_t.min(axis=1, initial=np.inf), disc_t.min(axis=1, initial=np.inf))
+        return np.minimum(nearest, MAX_CLEARANCE_M)
+
+
+def find_spawn_poses(
+    rooms: Iterable[Room], parts: Iterable[Part], wall_thickness_m: float
+) -> tuple[SpawnPose, ...]:
+    """Pick start poses on a grid in every room, headings along the room's axes.
+
+    Per room: the pose with the longest clear run ahead that can still back up
+    ``MIN_REVERSE_M`` (a lane start), and the pose with the most room both ways (a
+    centre). Returned sorted by ``clear_ahead_m``, longest first.
+    """
+    obstacles = Obstacles(parts)
+    radius = ROBOT_RADIUS_M
+    poses: dict[tuple[float, float, float], SpawnPose] = {}
+    for room in rooms:
+        inset = wall_thickness_m / 2 + radius + FREE_MARGIN_M
+        xs = np.arange(room.x_min_m + inset, room.x_max_m - inset + 1e-9, GRID_STEP_M)
+        ys = np.arange(room.y_min_m + inset, room.y_max_m - inset + 1e-9, GRID_STEP_M)
+        if xs.size == 0 or ys.size == 0:
+            continue
+        grid = np.stack(np.meshgrid(xs, ys, indexing="ij"), -1).reshape(-1, 2)
+        grid = grid[obstacles.is_free(grid, radius + FREE_MARGIN_M)]
+        if grid.shape[0] == 0:
+            continue
+        yaws = np.array([0.0, math.pi / 2, math.pi, -math.pi / 2])
+        xy = np.repeat(grid, yaws.size, axis=0)
+        yaw = np.tile(yaws, grid.shape[0])
+        ahead = obstacles.clearance_m(xy, yaw, radius)
+        behind = obstacles.clearance_m(xy, yaw + math.pi, radius)
+        lane_score = np.where(behind >= MIN_REVERSE_M, ahead, -1.0)
+        for k in (int(np.argmax(lane_score)), int(np.argmax(np.minimum(ahead, behind)))):
+            key = (round(float(xy[k, 0]), 6), round(float(xy[k, 1]), 6), float(yaw[k]))
+            # floor to the millimetre so the stored clearances stay lower bounds
+            poses[key] = SpawnPose(
+                x_m=key[0],
+                y_m=key[1],
+                yaw_rad=key[2],
+                clear_ahead_m=math.floor(float(ahead[k]) * 1000) / 1000,
+                clear_behind_m=math.floor(float(behind[k]) * 1000) / 1000,
+            )
+    return tuple(sorted(poses.values(), key=lambda p: (-p.clear_ahead_m, p.x_m, p.y_m)))
