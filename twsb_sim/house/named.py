@@ -12,6 +12,7 @@ furniture per room. The corridor and the rooms' middles are the long free lanes.
 
 from __future__ import annotations
 
+import functools
 import math
 
 from twsb_sim.house.floorplan import assemble_house
@@ -137,8 +138,9 @@ def _house2() -> House:
 NAMED_HOUSES = {"house1": _house1, "house2": _house2}
 
 
+@functools.cache
 def make_house(name: str) -> House:
-    """One of the fixed named layouts.
+    """One of the fixed named layouts (built once, then shared: a House is immutable).
 
     Args:
         name: ``"house1"`` or ``"house2"``.
