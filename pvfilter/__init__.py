@@ -13,6 +13,7 @@ from pvfilter.pipeline import (
     StampWentBackWarning,
 )
 from pvfilter.scan import Scan
+from pvfilter.threaded import ThreadedPitchVariationFilter
 from pvfilter.tracking import Tracker, TrackingQueue
 
 __all__ = [
@@ -24,6 +25,7 @@ __all__ = [
     "PitchVariationFilter",
     "Scan",
     "StampWentBackWarning",
+    "ThreadedPitchVariationFilter",
     "Tracker",
     "TrackingQueue",
     "cluster_scan",
