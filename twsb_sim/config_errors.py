@@ -67,10 +67,17 @@ def coerce_value(value: Any, tp: Any, source: str | Path, key: str) -> Any:
         if not isinstance(value, list | tuple):
             raise ConfigError(source, key, f"expected an array, got {value!r}")
         if len(args) == 2 and args[1] is Ellipsis:
-            return tuple(coerce_value(v, args[0], source, f"{key}[{i}]") for i, v in enumerate(value))
+            return tuple(
+                coerce_value(v, args[0], source, f"{key}[{i}]") for i, v in enumerate(value)
+            )
         if len(value) != len(args):
-            raise ConfigError(source, key, f"expected an array of {len(args)} values, got {len(value)}")
-        return tuple(coerce_value(v, a, source, f"{key}[{i}]") for i, (v, a) in enumerate(zip(value, args, strict=True)))
+            raise ConfigError(
+                source, key, f"expected an array of {len(args)} values, got {len(value)}"
+            )
+        return tuple(
+            coerce_value(v, a, source, f"{key}[{i}]")
+            for i, (v, a) in enumerate(zip(value, args, strict=True))
+        )
     if origin is typing.Literal:
         choices = typing.get_args(tp)
         if value not in choices:

@@ -1,0 +1,85 @@
+"""How fast the closed-loop simulation runs, against a bare ``mj_step`` loop.
+
+Runs, in one process and on one core:
+
+1. a bare ``mujoco.mj_step`` loop of the same model (robot in house1, zero torques, robot
+   held upright by resetting it whenever it tips) — the floor no Python loop can beat;
+2. the closed loop as a scenario runs it: LQR every physics step (500 Hz), LiDAR ray cast
+   and frame bundling at 10 Hz, the hard-stop timeline;
+3. the same with the Pitch Variation Filter in the loop.
+
+Timings on a shared machine are noisy, so the script reports each as a real-time factor
+and as a ratio against the bare loop measured in the same run. Usage::
+
+    python benchmarks/bench_simulation.py [--seconds 20] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import mujoco
+
+from pvfilter import PitchVariationFilter
+from twsb_sim.cli import resolve_scenario
+from twsb_sim.runner import run_scenario, simulation_for
+from twsb_sim.scenario import load_scenario
+
+
+def bare_step_rate(seconds: float) -> float:
+    """Physics steps per wall second of a bare mj_step loop of the scenario's model."""
+    scenario = load_scenario(resolve_scenario("hard_stop"))
+    sim = simulation_for(scenario, seed=0)
+    model, data = sim.model, sim.data
+    n_steps = round(seconds / sim.dt_s)
+    qpos0, chunk = data.qpos.copy(), 250  # 0.5 s: the uncontrolled robot has not fallen yet
+    started = time.perf_counter()
+    for k in range(n_steps):
+        if k % chunk == 0:
+            data.qpos[:] = qpos0
+            data.qvel[:] = 0.0
+        mujoco.mj_step(model, data)
+    return n_steps / (time.perf_counter() - started)
+
+
+def closed_loop_rate(seconds: float, with_filter: bool) -> tuple[float, int]:
+    """Simulated seconds per wall second of the hard-stop scenario (closed loop + LiDAR)."""
+    scenario = load_scenario(resolve_scenario("hard_stop"))
+    total_sim, total_wall, frames = 0.0, 0.0, 0
+    while total_sim < seconds:
+        scan_filter = PitchVariationFilter() if with_filter else None
+        summary = run_scenario(scenario, seed=0, scan_filter=scan_filter)
+        total_sim += summary.simulated_s
+        total_wall += summary.wall_s
+        frames += summary.frames
+    return total_sim / total_wall, frames
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--seconds", type=float, default=20.0, help="simulated seconds per measurement"
+    )
+    parser.add_argument(
+        "--repeats", type=int, default=3, help="take the best of this many measurements"
+    )
+    args = parser.parse_args()
+    dt = 0.002  # s, the model's physics step
+    bare, closed, filtered = [], [], []
+    for _ in range(args.repeats):  # interleaved, so machine load hits all three alike
+        bare.append(bare_step_rate(args.seconds) * dt)
+        closed.append(closed_loop_rate(args.seconds, with_filter=False)[0])
+        filtered.append(closed_loop_rate(args.seconds, with_filter=True)[0])
+    bare_rtf, closed_rtf, filtered_rtf = max(bare), max(closed), max(filtered)
+    rows = [
+        ("bare mj_step loop", bare_rtf),
+        ("closed loop + LiDAR 10 Hz", closed_rtf),
+        ("  + filter in the loop", filtered_rtf),
+    ]
+    for name, rtf in rows:
+        print(f"{name:28s}{rtf:7.1f}x real time  = {rtf / bare_rtf:.2f} of bare")
+    print(f"(best of {args.repeats}, {args.seconds:g} simulated s each)")
+
+if __name__ == "__main__":
+    main()

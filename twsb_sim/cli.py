@@ -1,0 +1,105 @@
+"""The ``twsb`` command line.
+
+``twsb run SCENARIO`` simulates a scenario with the filter in the loop, shows a progress
+bar, prints a summary and (with ``--out``) writes the frames. User mistakes (a bad
+scenario file, a wrong flag value) print one line naming the problem and exit with
+status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from twsb_sim.config_errors import ConfigError
+
+SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
+EXIT_USAGE = 2  # a user mistake: bad file, bad value
+EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
+
+
+def resolve_scenario(name_or_path: str) -> Path:
+    """A scenario file path, or the name of a shipped scenario (``hard_stop``)."""
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    shipped = SCENARIOS_DIR / f"{name_or_path.removesuffix('.toml')}.toml"
+    if shipped.is_file():
+        return shipped
+    known = ", ".join(sorted(p.stem for p in SCENARIOS_DIR.glob("*.toml")))
+    raise ConfigError(name_or_path, "", f"no such scenario file (shipped scenarios: {known})")
+
+
+def _add_run_parser(commands: argparse._SubParsersAction) -> None:
+    run = commands.add_parser(
+        "run",
+        help="simulate a scenario with the filter in the loop",
+        description="Simulate a scenario, run the Pitch Variation Filter on every scan, "
+        "print a summary, and optionally write the frames.",
+    )
+    run.add_argument(
+        "scenario", help="a scenario file, or the name of a shipped one (e.g. hard_stop)"
+    )
+    run.add_argument("--seed", type=int, default=None, help="run seed (default: the scenario's)")
+    run.add_argument(
+        "--out", type=Path, default=None, help="write frames.npz, summary.json, scenario.toml here"
+    )
+    run.add_argument("--no-filter", action="store_true", help="do not run the filter in the loop")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(handler=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from twsb_sim.frame_writer import FrameWriter
+    from twsb_sim.runner import run_scenario
+    from twsb_sim.scenario import load_scenario
+
+    path = resolve_scenario(args.scenario)
+    scenario = load_scenario(path)
+    if args.seed is not None and args.seed < 0:
+        raise ConfigError("--seed", "", f"expected an integer >= 0, got {args.seed}")
+    sinks = []
+    if args.out is not None:
+        sinks.append(FrameWriter(args.out, scenario_file=path))
+    scan_filter = None
+    if not args.no_filter:
+        from pvfilter import PitchVariationFilter
+
+        scan_filter = PitchVariationFilter()
+    summary = run_scenario(
+        scenario, seed=args.seed, scan_filter=scan_filter, sinks=sinks, progress=not args.quiet
+    )
+    print(summary.format())
+    if args.out is not None:
+        print(f"frames written to {args.out}/frames.npz")
+    return EXIT_FELL if summary.fell else 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="twsb",
+        description="A two-wheeled self-balancing robot with a labeled 2D LiDAR, and the "
+        "Pitch Variation Filter in the loop.",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _add_run_parser(commands)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``twsb`` command."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.handler(args)
+    except ConfigError as error:
+        print(f"twsb: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("twsb: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

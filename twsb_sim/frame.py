@@ -1,0 +1,99 @@
+"""One LiDAR frame of a run: the scan, a ground-truth label per beam, and the robot's truth.
+
+A frame is what every consumer of the simulator receives: the filter in the loop, scan
+matchers, the Rerun logger, data-set writers, the Gymnasium env. Arrays are read-only so
+a frame can be handed to several consumers (and threads) without copies.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from pvfilter import Scan
+
+
+def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
+    array = np.array(array, dtype=dtype)
+    array.flags.writeable = False
+    return array
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class RobotTruth:
+    """The robot's true state when the scan was taken (world frame: REP-103, z up).
+
+    The base frame's origin is the wheel-axle centre. Positive pitch is nose down.
+    """
+
+    stamp_s: float  # s, simulated time
+    position_base_in_world: np.ndarray  # m, (3,)
+    quat_base_in_world: np.ndarray  # (w, x, y, z)
+    yaw_rad: float
+    pitch_rad: float  # positive = nose down
+    roll_rad: float
+    pitch_rate_rad_s: float
+    forward_velocity_mps: float  # along the heading, horizontal
+    yaw_rate_rad_s: float
+    wheel_speeds_rad_s: np.ndarray  # (left, right)
+    wheel_torques_nm: np.ndarray  # (left, right), as applied (saturated)
+    command_velocity_mps: float
+    command_yaw_rate_rad_s: float
+    shove_active: bool
+    position_sensor_in_world: np.ndarray  # m, (3,), the LiDAR's origin
+    rotation_sensor_to_world: np.ndarray  # (3, 3)
+    imu_gyro_rad_s: np.ndarray  # (3,), IMU frame
+    imu_accel_mps2: np.ndarray  # (3,), IMU frame, specific force (gravity included)
+    imu_quat: np.ndarray  # (w, x, y, z), IMU frame orientation in the world
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, np.ndarray):
+                object.__setattr__(self, f.name, _frozen(value, np.float64))
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Frame:
+    """One scan with its ground truth.
+
+    Attributes:
+        index: frame number in the run, from 0.
+        scan: the simulated scan (REP-117 ranges, LaserScan fields, stamp in s).
+        labels: ``uint8[n]`` :class:`~twsb_sim.labels.BeamLabel` per beam.
+        hit_points_world: ``float64[n, 3]`` where each beam really hit (m, world frame),
+            NaN where it hit nothing within range; noise-free.
+        truth: the robot's state.
+        phase: the scenario phase in force ("hard stop", ...), "" when none.
+    """
+
+    index: int
+    scan: Scan
+    labels: np.ndarray
+    hit_points_world: np.ndarray
+    truth: RobotTruth
+    phase: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "labels", _frozen(self.labels, np.uint8))
+        object.__setattr__(self, "hit_points_world", _frozen(self.hit_points_world, np.float64))
+        if self.labels.shape != self.scan.ranges.shape:
+            raise ValueError(
+                f"labels: need one per beam ({len(self.scan)}), got {self.labels.shape}"
+            )
+
+    @property
+    def stamp_s(self) -> float:
+        return self.scan.stamp
+
+
+def truth_arrays(truths: list[RobotTruth]) -> dict[str, np.ndarray]:
+    """Stack the truth of many frames into one array per field (for files and tables)."""
+    if not truths:
+        return {}
+    return {
+        f.name: np.stack([np.asarray(getattr(t, f.name)) for t in truths])
+        for f in dataclasses.fields(RobotTruth)
+    }

@@ -1,0 +1,105 @@
+"""Writes a run's frames to a folder that numpy alone can read.
+
+``twsb run ... --out DIR`` leaves:
+
+- ``DIR/frames.npz``: one array per quantity, frames stacked along axis 0 (see
+  :data:`FRAME_ARRAYS`), plus the LaserScan intrinsics as scalars; the same layout the
+  ``pvfilter`` command reads, so a run can be re-filtered offline.
+- ``DIR/summary.json``: the run summary (:class:`~twsb_sim.summary.RunSummary`).
+- ``DIR/scenario.toml``: a copy of the scenario file that was run.
+
+Files appear atomically (written to a temporary name, then renamed), and they are also
+written when the run ends early (a fall, Ctrl-C), so no simulated frame is lost.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from twsb_sim.frame import Frame, truth_arrays
+from twsb_sim.summary import RunSummary
+
+FRAME_ARRAYS = {
+    "stamps": "float64[K], s, stamp of each scan",
+    "ranges": "float64[K, n], m, REP-117 (+inf no return, -inf closer than range_min)",
+    "labels": "uint8[K, n], ground-truth BeamLabel per beam",
+    "hit_points_world": "float32[K, n, 3], m, noise-free hit points, NaN where no return",
+    "removed": "bool[K, n], beams the filter in the loop removed (only when a filter ran)",
+    "truth_<field>": "one array per RobotTruth field, e.g. truth_pitch_rad float64[K]",
+    "angle_min, angle_increment, range_min, range_max, time_increment, scan_time": "scalars",
+}
+
+
+def _atomic_write(path: Path, write: Any) -> None:
+    temporary = path.with_name(f".{path.name}.partial")
+    write(temporary)
+    os.replace(temporary, path)
+
+
+class FrameWriter:
+    """A sink that keeps every frame and writes the run folder when the run ends."""
+
+    def __init__(self, out_dir: str | Path, scenario_file: str | Path | None = None) -> None:
+        self.out_dir = Path(out_dir)
+        self.scenario_file = Path(scenario_file) if scenario_file else None
+        self._frames: list[Frame] = []
+        self._removed: list[np.ndarray] = []
+
+    def on_frame(self, frame: Frame, filter_result: Any | None) -> None:
+        self._frames.append(frame)
+        if filter_result is not None:
+            self._removed.append(np.asarray(filter_result.removed, dtype=bool))
+
+    def on_event(self, t_s: float, text: str) -> None:
+        pass
+
+    def close(self, summary: RunSummary) -> None:
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        arrays = self.arrays()
+        _atomic_write(self.out_dir / "frames.npz", lambda p: _save_npz(p, arrays))
+        text = json.dumps(summary.to_dict(), indent=2, default=float)
+        _atomic_write(self.out_dir / "summary.json", lambda p: p.write_text(text + "\n"))
+        if self.scenario_file and self.scenario_file.is_file():
+            _atomic_write(
+                self.out_dir / "scenario.toml", lambda p: shutil.copyfile(self.scenario_file, p)
+            )
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The frames so far, stacked as they are written to ``frames.npz``."""
+        if not self._frames:
+            return {}
+        scan = self._frames[0].scan
+        arrays: dict[str, np.ndarray] = {
+            "stamps": np.array([f.scan.stamp for f in self._frames]),
+            "ranges": np.stack([f.scan.ranges for f in self._frames]),
+            "labels": np.stack([f.labels for f in self._frames]),
+            "hit_points_world": np.stack([f.hit_points_world for f in self._frames]).astype(
+                np.float32
+            ),
+            "phases": np.array([f.phase for f in self._frames]),
+        }
+        for name in (
+            "angle_min",
+            "angle_increment",
+            "range_min",
+            "range_max",
+            "time_increment",
+            "scan_time",
+        ):
+            arrays[name] = np.float64(getattr(scan, name))
+        if self._removed:
+            arrays["removed"] = np.stack(self._removed)
+        for name, values in truth_arrays([f.truth for f in self._frames]).items():
+            arrays[f"truth_{name}"] = values
+        return arrays
+
+
+def _save_npz(path: Path, arrays: dict[str, np.ndarray]) -> None:
+    with open(path, "wb") as file:
+        np.savez_compressed(file, **arrays)

@@ -1,0 +1,164 @@
+"""Runs a scenario: the timeline drives the simulation, frames flow to the filter and sinks.
+
+The loop is a schedule of breakpoints (every LiDAR frame, every shove start and end,
+every command point); between two breakpoints the simulation steps through a slice of
+the precomputed command arrays, so nothing but the controller and ``mj_step`` runs per
+physics step.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from tqdm import tqdm
+
+from twsb_sim.config_errors import ConfigError
+from twsb_sim.house import House, SpawnPose, make_house, random_house
+from twsb_sim.scenario import HouseChoice, Scenario
+from twsb_sim.simulation import Shove as ActiveShove
+from twsb_sim.simulation import Simulation
+from twsb_sim.sinks import FrameSink
+from twsb_sim.summary import RunSummary
+from twsb_sim.timeline import heading_force_to_world, phase_at, sample_commands
+
+
+def build_house(choice: HouseChoice) -> House:
+    """The house a scenario asks for."""
+    return make_house(choice.name) if choice.name is not None else random_house(choice.seed)
+
+
+def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, float, float]:
+    """The robot's start (x m, y m, yaw rad) from the scenario's house table."""
+    if choice.start is not None:
+        x, y, yaw_deg = choice.start
+        return x, y, math.radians(yaw_deg)
+    if choice.spawn >= len(house.spawn_poses):
+        raise ConfigError(
+            source,
+            "house.spawn",
+            f"{house.name} has {len(house.spawn_poses)} spawn poses, got index {choice.spawn}",
+        )
+    pose: SpawnPose = house.spawn_poses[choice.spawn]
+    return pose.x_m, pose.y_m, pose.yaw_rad
+
+
+def simulation_for(scenario: Scenario, seed: int) -> Simulation:
+    """Build the house, robot, controller and LiDAR of a scenario, robot at its start."""
+    house = build_house(scenario.house)
+    sim = Simulation(
+        house,
+        robot=scenario.robot,
+        lidar=scenario.lidar,
+        controller=scenario.controller,
+        fall_pitch_deg=scenario.simulation.fall_pitch_deg,
+        seed=seed,
+    )
+    sim.reset(start_pose(scenario.house, house, scenario.source), seed)
+    return sim
+
+
+def run_scenario(
+    scenario: Scenario,
+    seed: int | None = None,
+    scan_filter: Any | None = None,
+    sinks: Sequence[FrameSink] = (),
+    progress: bool = False,
+) -> RunSummary:
+    """Simulate ``scenario`` and hand every frame to the filter and the sinks.
+
+    A fall ends the run early (``summary.fell``, with the reason); Ctrl-C ends it too,
+    after the sinks are closed so what was simulated is kept, and is then re-raised.
+
+    Args:
+        scenario: what to run.
+        seed: the run's seed (default: the scenario's); same scenario and seed give
+            bitwise-identical frames.
+        scan_filter: an object with ``process(scan)`` returning a result with a boolean
+            ``removed`` mask (a :class:`pvfilter.PitchVariationFilter`), or None.
+        sinks: consumers of the frames (see :mod:`twsb_sim.sinks`).
+        progress: show a progress bar over simulated time.
+
+    Returns:
+        The run's summary.
+    """
+    seed = scenario.seed if seed is None else seed
+    sim = simulation_for(scenario, seed)
+    summary = RunSummary(scenario=scenario.name, seed=seed, house=sim.house.name)
+    if scan_filter is not None:
+        summary.filter_name = type(scan_filter).__name__
+        scan_filter.reset()
+    started = time.perf_counter()
+    n_frames = math.floor(scenario.duration_s * scenario.lidar.rate_hz + 1e-9) + 1
+    bar = tqdm(total=n_frames, desc=scenario.name, unit="frame", disable=not progress, leave=False)
+    try:
+        _simulate(scenario, sim, scan_filter, sinks, summary, bar)
+    except KeyboardInterrupt:
+        summary.end_reason = "interrupted"
+        raise
+    finally:
+        bar.close()
+        summary.wall_s = time.perf_counter() - started
+        summary.max_abs_pitch_deg = max(
+            summary.max_abs_pitch_deg, math.degrees(sim.max_abs_pitch_rad)
+        )
+        for sink in sinks:
+            sink.close(summary)
+    return summary
+
+
+def _simulate(
+    scenario: Scenario,
+    sim: Simulation,
+    scan_filter: Any | None,
+    sinks: Sequence[FrameSink],
+    summary: RunSummary,
+    bar: tqdm,
+) -> None:
+    dt = sim.dt_s
+    n_steps = round(scenario.duration_s / dt)
+    frame_every = round(1.0 / (sim.lidar.config.rate_hz * dt))
+    commands = sample_commands(scenario.commands, dt, n_steps + 1)
+    to_step = lambda t: round(t / dt)  # noqa: E731
+    shove_starts = {to_step(s.t_s): s for s in scenario.shoves}
+    shove_ends = {to_step(s.end_s) for s in scenario.shoves}
+    phase_starts = {to_step(p.t_s) for p in scenario.commands}
+    breakpoints = sorted(
+        {*range(0, n_steps + 1, frame_every), *shove_starts, *shove_ends, *phase_starts, n_steps}
+    )
+    events = lambda text: [sink.on_event(sim.time_s, text) for sink in sinks]  # noqa: E731
+    frame_index = 0
+    for k, k_next in zip(breakpoints, [*breakpoints[1:], None], strict=True):
+        if k in shove_ends:
+            sim.set_shove(None)
+        if k in phase_starts:
+            events(f"phase: {phase_at(scenario.commands, k * dt)}")
+        if k in shove_starts:
+            shove = shove_starts[k]
+            force = heading_force_to_world(shove.force_n, sim.truth().yaw_rad)
+            sim.set_shove(ActiveShove(force_world_n=force, point_body_m=np.array(shove.point_m)))
+            events(
+                f"shove: {np.linalg.norm(force):.0f} N for {shove.duration_s:g} s"
+                + (f" ({shove.label})" if shove.label else "")
+            )
+        if sim.has_fallen():
+            pitch_deg = abs(math.degrees(sim.pitch_rad()))
+            limit_deg = scenario.simulation.fall_pitch_deg
+            reason = f"fell: |pitch| {pitch_deg:.0f} deg > {limit_deg:g} deg"
+            reason += f" at t={sim.time_s:.2f} s"
+            summary.fell, summary.end_reason = True, reason
+            events(reason)
+            return
+        if k % frame_every == 0:
+            frame = sim.frame(frame_index, phase=phase_at(scenario.commands, k * dt))
+            result = scan_filter.process(frame.scan) if scan_filter is not None else None
+            summary.add_frame(frame, None if result is None else result.removed)
+            for sink in sinks:
+                sink.on_frame(frame, result)
+            frame_index += 1
+            bar.update()
+        if k_next is not None:
+            sim.run_commands(commands.velocity_mps[k:k_next], commands.yaw_rate_rad_s[k:k_next])

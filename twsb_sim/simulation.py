@@ -1,0 +1,216 @@
+"""One robot in one house: physics, balance control and the LiDAR, step by step.
+
+:class:`Simulation` knows nothing of scenario files: it is the engine that the scenario
+runner, the Gymnasium env and the data-set generator all drive. Each physics step runs
+the LQR balance controller (or applies raw wheel torques), and :meth:`Simulation.frame`
+casts the LiDAR from the sensor's current, tilted pose and bundles the truth.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from pvfilter import Scan
+from twsb_sim.control.lqr import LqrConfig, LqrController
+from twsb_sim.frame import Frame, RobotTruth
+from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.lidar import Lidar, LidarConfig
+from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
+
+
+class RobotFell(RuntimeError):
+    """The robot's |pitch| went beyond the fall limit: the run cannot go on."""
+
+
+@dataclass(frozen=True)
+class Shove:
+    """A force acting now: world-frame force at a point fixed in the body frame."""
+
+    force_world_n: np.ndarray  # N, (3,)
+    point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
+
+
+def build_model(house: House, robot: RobotConfig) -> mujoco.MjModel:
+    """Compile the robot into the house."""
+    spec = load_robot_spec(robot)
+    add_house_to_spec(spec, house)
+    return spec.compile()
+
+
+class Simulation:
+    """A TWSB robot balancing in a house, with a LiDAR.
+
+    Args:
+        house: the house to build.
+        robot, lidar, controller: parameters of each subsystem.
+        fall_pitch_deg: |pitch| beyond which the robot counts as fallen.
+        seed: seeds the LiDAR noise (a ``SeedSequence`` child); the physics itself is
+            deterministic.
+    """
+
+    def __init__(
+        self,
+        house: House,
+        robot: RobotConfig = RobotConfig(),  # noqa: B008
+        lidar: LidarConfig = LidarConfig(),  # noqa: B008
+        controller: LqrConfig = LqrConfig(),  # noqa: B008
+        fall_pitch_deg: float = 45.0,
+        seed: int = 0,
+    ) -> None:
+        self.house = house
+        self.robot_config = robot
+        self.model = build_model(house, robot)
+        self.data = mujoco.MjData(self.model)
+        self.handles = RobotHandles(self.model)
+        self.lidar = Lidar(self.model, lidar)
+        self.controller = LqrController(self.model, robot, controller)
+        self.fall_pitch_rad = math.radians(fall_pitch_deg)
+        self.dt_s = float(self.model.opt.timestep)
+        self._seed = seed
+        self.reset(
+            house.spawn_poses[0] if house.spawn_poses else SpawnPose(0.0, 0.0, 0.0, 0.0, 0.0), seed
+        )
+
+    # -- state ---------------------------------------------------------------------------
+
+    def reset(self, pose: SpawnPose | tuple[float, float, float], seed: int | None = None) -> None:
+        """Put the robot upright and still at ``pose`` (x m, y m, yaw rad); time 0.
+
+        Args:
+            pose: a spawn pose of the house, or ``(x_m, y_m, yaw_rad)``.
+            seed: a new seed for the LiDAR noise (default: the last one).
+        """
+        if seed is not None:
+            self._seed = seed
+        x, y, yaw = (pose.x_m, pose.y_m, pose.yaw_rad) if isinstance(pose, SpawnPose) else pose
+        mujoco.mj_resetData(self.model, self.data)
+        set_pose(self.model, self.data, x, y, yaw)
+        self.controller.reset()
+        self.noise_rng = np.random.default_rng(np.random.SeedSequence(self._seed).spawn(1)[0])
+        self.command = (0.0, 0.0)
+        self.max_abs_pitch_rad = 0.0  # over every physics step since reset
+        self._shove: Shove | None = None
+
+    @property
+    def time_s(self) -> float:
+        return float(self.data.time)
+
+    def pitch_rad(self) -> float:
+        """Current pitch (positive = nose down)."""
+        return self.handles.read_balance_state(self.data).pitch_rad
+
+    def has_fallen(self) -> bool:
+        return abs(self.pitch_rad()) > self.fall_pitch_rad
+
+    # -- stepping ------------------------------------------------------------------------
+
+    def step(self, velocity_mps: float, yaw_rate_rad_s: float, n_steps: int = 1) -> None:
+        """Advance ``n_steps`` physics steps with the LQR tracking one command."""
+        self.run_commands(np.full(n_steps, velocity_mps), np.full(n_steps, yaw_rate_rad_s))
+
+    def run_commands(self, velocities_mps: np.ndarray, yaw_rates_rad_s: np.ndarray) -> None:
+        """Advance one physics step per command pair, the LQR tracking each in turn.
+
+        This is the hot loop: per step only the controller and ``mj_step`` run.
+        """
+        model, data, apply = self.model, self.data, self.controller.apply
+        shove = self._shove
+        max_pitch = self.max_abs_pitch_rad
+        v = w = 0.0
+        for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
+            apply(data, v, w)
+            if shove is not None:
+                self._apply_shove(shove)
+            mujoco.mj_step(model, data)
+        self.max_abs_pitch_rad = max_pitch
+        if len(velocities_mps):
+            self.command = (v, w)
+
+    def step_torques(self, torques_nm: np.ndarray, n_steps: int = 1) -> None:
+        """Advance with raw wheel torques (N·m, left and right), clipped at the motor limits."""
+        limit = self.handles.torque_limit_nm
+        self.data.ctrl[list(self.handles.actuator_ids)] = np.clip(torques_nm, -limit, limit)
+        for _ in range(n_steps):
+            if self._shove is not None:
+                self._apply_shove(self._shove)
+            mujoco.mj_step(self.model, self.data)
+
+    def set_shove(self, shove: Shove | None) -> None:
+        """Start (or, with None, end) an external push on the body."""
+        self._shove = shove
+        if shove is None:
+            self.data.xfrc_applied[self.handles.base_body_id] = 0.0
+
+    @property
+    def shove_active(self) -> bool:
+        return self._shove is not None
+
+    def _apply_shove(self, shove: Shove) -> None:
+        # xfrc_applied acts at the body's centre of mass: move the force there with its torque
+        body = self.handles.base_body_id
+        point_world = self.data.xpos[body] + self.data.xmat[body].reshape(3, 3) @ shove.point_body_m
+        lever = point_world - self.data.xipos[body]
+        self.data.xfrc_applied[body, :3] = shove.force_world_n
+        self.data.xfrc_applied[body, 3:] = np.cross(lever, shove.force_world_n)
+
+    # -- sensing -------------------------------------------------------------------------
+
+    def frame(self, index: int, phase: str = "") -> Frame:
+        """Cast the LiDAR now and bundle the scan, labels and truth into a frame."""
+        # after mj_step, derived quantities (site poses, sensors) lag qpos by one step:
+        # recompute them so the scan, the IMU and the truth describe the same instant
+        mujoco.mj_forward(self.model, self.data)
+        reading = self.lidar.scan(self.data, self.noise_rng)
+        scan = Scan(
+            ranges=reading.ranges,
+            angle_min=self.lidar.angle_min,
+            angle_increment=self.lidar.angle_increment,
+            range_min=self.lidar.range_min,
+            range_max=self.lidar.range_max,
+            time_increment=self.lidar.time_increment,
+            scan_time=self.lidar.scan_time,
+            stamp=self.time_s,
+        )
+        return Frame(
+            index=index,
+            scan=scan,
+            labels=reading.labels,
+            hit_points_world=reading.hit_points_world,
+            truth=self.truth(),
+            phase=phase,
+        )
+
+    def truth(self) -> RobotTruth:
+        """The robot's true state now."""
+        data, handles = self.data, self.handles
+        state = handles.read_balance_state(data)
+        gyro, accel, quat = handles.read_imu(data)
+        a = handles.qpos_adr
+        base = data.qpos[a : a + 7]
+        return RobotTruth(
+            stamp_s=self.time_s,
+            position_base_in_world=base[:3],
+            quat_base_in_world=base[3:],
+            yaw_rad=state.yaw_rad,
+            pitch_rad=state.pitch_rad,
+            roll_rad=state.roll_rad,
+            pitch_rate_rad_s=state.pitch_rate_rad_s,
+            forward_velocity_mps=state.forward_velocity_mps,
+            yaw_rate_rad_s=state.yaw_rate_rad_s,
+            wheel_speeds_rad_s=np.array(
+                [state.left_wheel_speed_rad_s, state.right_wheel_speed_rad_s]
+            ),
+            wheel_torques_nm=data.ctrl[list(handles.actuator_ids)],
+            command_velocity_mps=self.command[0],
+            command_yaw_rate_rad_s=self.command[1],
+            shove_active=self.shove_active,
+            position_sensor_in_world=data.site_xpos[handles.lidar_site_id],
+            rotation_sensor_to_world=data.site_xmat[handles.lidar_site_id].reshape(3, 3),
+            imu_gyro_rad_s=np.array(gyro),
+            imu_accel_mps2=np.array(accel),
+            imu_quat=np.array(quat),
+        )

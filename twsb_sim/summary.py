@@ -1,0 +1,127 @@
+"""The numbers printed at the end of a run, gathered frame by frame."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from twsb_sim.frame import Frame
+from twsb_sim.labels import BeamLabel, is_pitch_variation
+
+
+@dataclass
+class FilterCounts:
+    """Per-beam confusion counts of a filter against ground truth.
+
+    Counted over beams whose input range is finite (DESIGN.md); positives are the
+    pitch-variation labels, a beam is predicted positive when the filter removed it.
+    """
+
+    true_positives: int = 0
+    false_positives: int = 0
+    false_negatives: int = 0
+    true_negatives: int = 0
+
+    @property
+    def precision(self) -> float:
+        predicted = self.true_positives + self.false_positives
+        return self.true_positives / predicted if predicted else 1.0
+
+    @property
+    def recall(self) -> float:
+        actual = self.true_positives + self.false_negatives
+        return self.true_positives / actual if actual else math.nan
+
+    def add(self, ranges: np.ndarray, labels: np.ndarray, removed: np.ndarray) -> None:
+        finite = np.isfinite(ranges)
+        truth = is_pitch_variation(labels)[finite]
+        predicted = np.asarray(removed, dtype=bool)[finite]
+        self.true_positives += int(np.count_nonzero(truth & predicted))
+        self.false_positives += int(np.count_nonzero(~truth & predicted))
+        self.false_negatives += int(np.count_nonzero(truth & ~predicted))
+        self.true_negatives += int(np.count_nonzero(~truth & ~predicted))
+
+
+@dataclass
+class RunSummary:
+    """What a run did, in numbers (all times in simulated seconds unless said)."""
+
+    scenario: str
+    seed: int
+    house: str
+    simulated_s: float = 0.0
+    wall_s: float = 0.0
+    frames: int = 0
+    max_abs_pitch_deg: float = 0.0
+    beams_per_label: dict[str, int] = field(
+        default_factory=lambda: {lb.name: 0 for lb in BeamLabel}
+    )
+    pitch_variation_frames: int = 0  # frames with at least one pitch-variation beam
+    max_pitch_variation_beams: int = 0  # in one frame
+    mean_pitch_variation_beams: float = 0.0  # per frame
+    fell: bool = False
+    end_reason: str = "completed"  # "completed", "fell: ...", "interrupted"
+    filter_name: str | None = None
+    filter_counts: FilterCounts | None = None
+    filter_removed_beams: int = 0
+
+    @property
+    def real_time_factor(self) -> float:
+        return self.simulated_s / self.wall_s if self.wall_s > 0 else math.inf
+
+    def add_frame(self, frame: Frame, removed: np.ndarray | None) -> None:
+        """Fold one frame (and the filter's mask for it) into the totals."""
+        self.frames += 1
+        self.simulated_s = max(self.simulated_s, frame.stamp_s)
+        self.max_abs_pitch_deg = max(
+            self.max_abs_pitch_deg, abs(math.degrees(frame.truth.pitch_rad))
+        )
+        counts = np.bincount(frame.labels, minlength=len(BeamLabel))
+        for label in BeamLabel:
+            self.beams_per_label[label.name] += int(counts[label])
+        n_pv = int(
+            counts[BeamLabel.FLOOR] + counts[BeamLabel.CEILING] + counts[BeamLabel.HORIZONTAL]
+        )
+        self.pitch_variation_frames += n_pv > 0
+        self.max_pitch_variation_beams = max(self.max_pitch_variation_beams, n_pv)
+        self.mean_pitch_variation_beams += (n_pv - self.mean_pitch_variation_beams) / self.frames
+        if removed is not None:
+            self.filter_counts = self.filter_counts or FilterCounts()
+            self.filter_counts.add(frame.scan.ranges, frame.labels, removed)
+            self.filter_removed_beams += int(np.count_nonzero(removed))
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready values, derived ratios included."""
+        values = asdict(self)
+        values["real_time_factor"] = self.real_time_factor
+        if self.filter_counts is not None:
+            values["filter_counts"]["precision"] = self.filter_counts.precision
+            values["filter_counts"]["recall"] = self.filter_counts.recall
+        return values
+
+    def format(self) -> str:
+        """A short human-readable report."""
+        lines = [
+            f"scenario        {self.scenario} (seed {self.seed}, {self.house})",
+            f"simulated       {self.simulated_s:.1f} s in {self.wall_s:.1f} s wall"
+            f" ({self.real_time_factor:.0f}x real time)",
+            f"frames          {self.frames}",
+            f"max |pitch|     {self.max_abs_pitch_deg:.1f} deg",
+            "beams by label  "
+            + ", ".join(f"{k} {v}" for k, v in self.beams_per_label.items() if v),
+            f"pitch-variation beams per frame: mean {self.mean_pitch_variation_beams:.1f},"
+            f" max {self.max_pitch_variation_beams}, in {self.pitch_variation_frames} frames",
+            f"falls           {1 if self.fell else 0}",
+            f"ended           {self.end_reason}",
+        ]
+        if self.filter_counts is not None:
+            c = self.filter_counts
+            lines.append(
+                f"filter          {self.filter_name}: removed {self.filter_removed_beams} beams,"
+                f" precision {c.precision:.3f}, recall {c.recall:.3f}"
+                f" (TP {c.true_positives}, FP {c.false_positives}, FN {c.false_negatives})"
+            )
+        return "\n".join(lines)
