@@ -1,0 +1,146 @@
+"""Scan files: a documented ``.npz`` layout, so recorded scans can be filtered offline.
+
+Input arrays (``m`` scans of ``n`` beams; a scalar field may also be one value per scan):
+
+========================  ==========  =====================================================
+key                       shape       meaning
+========================  ==========  =====================================================
+``ranges``                (m, n)      ranges, m, REP-117 (``inf``, ``-inf``, ``NaN``)
+``stamps``                (m,)        scan times, s, non-decreasing
+``angle_min``             () or (m,)  angle of beam 0, rad
+``angle_increment``       () or (m,)  angle between beams, rad, > 0
+``range_min``             () or (m,)  smallest valid range, m
+``range_max``             () or (m,)  largest valid range, m
+``time_increment``        () or (m,)  optional, s between beams (default 0)
+``scan_time``             () or (m,)  optional, s between scans (default 0)
+``intensities``           (m, n)      optional
+========================  ==========  =====================================================
+
+The output file holds every input array unchanged except ``ranges``, which holds the
+filtered ranges (removed beams are NaN), plus ``removed`` (bool, (m, n)) and ``scores``
+(float64, (m, n), P(C_pv) of each beam's cluster). Other input arrays (labels, say) pass
+through, so the output is itself a valid input file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from pvfilter.pipeline import FilterResult
+from pvfilter.scan import Scan
+
+REQUIRED_KEYS = ("ranges", "stamps", "angle_min", "angle_increment", "range_min", "range_max")
+PER_SCAN_KEYS = (
+    "angle_min",
+    "angle_increment",
+    "range_min",
+    "range_max",
+    "time_increment",
+    "scan_time",
+)
+
+
+def read_arrays(path: str | Path) -> dict[str, np.ndarray]:
+    """All arrays of an ``.npz`` file (no pickled objects)."""
+    with np.load(path, allow_pickle=False) as data:
+        return {key: data[key] for key in data.files}
+
+
+def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> list[Scan]:
+    """Build the scans described by the arrays of a scan file (see the module docstring).
+
+    Args:
+        arrays: the file's arrays by key.
+        source: where they came from, for error messages.
+
+    Raises:
+        ValueError: ``"<source>: <key>: <what is wrong>"`` for a missing or malformed
+            array, or ``"<source>: scan <i>: <field>: ..."`` for a scan that is invalid.
+    """
+    missing = [key for key in REQUIRED_KEYS if key not in arrays]
+    if missing:
+        raise ValueError(f"{source}: {missing[0]}: missing (required: {', '.join(REQUIRED_KEYS)})")
+    ranges = np.asarray(arrays["ranges"])
+    if ranges.ndim != 2:
+        raise ValueError(f"{source}: ranges: must be 2-D (scans, beams), got shape {ranges.shape}")
+    count = len(ranges)
+    fields = {"stamp": _per_scan(arrays, "stamps", count, source)}
+    for key in PER_SCAN_KEYS:
+        if key in arrays:
+            fields[key] = _per_scan(arrays, key, count, source)
+    intensities = arrays.get("intensities")
+    if intensities is not None and np.shape(intensities) != ranges.shape:
+        raise ValueError(f"{source}: intensities: must have the shape of ranges {ranges.shape}")
+    scans = []
+    for i in range(count):
+        try:
+            scans.append(
+                Scan(
+                    ranges=ranges[i],
+                    **{k: float(v[i]) for k, v in fields.items()},
+                    intensities=None if intensities is None else intensities[i],
+                )
+            )
+        except ValueError as error:
+            raise ValueError(f"{source}: scan {i}: {error}") from None
+    return scans
+
+
+def load_scans(path: str | Path) -> list[Scan]:
+    """Read the scans of a scan file (see the module docstring)."""
+    return scans_from_arrays(read_arrays(path), source=str(path))
+
+
+def arrays_from_scans(scans: Sequence[Scan]) -> dict[str, np.ndarray]:
+    """The arrays of a scan file holding ``scans`` (all with the same beam count).
+
+    Raises:
+        ValueError: if the scans do not all have the same number of beams.
+    """
+    if len({len(scan) for scan in scans}) > 1:
+        raise ValueError("ranges: every scan of a file must have the same number of beams")
+    arrays = {
+        "ranges": _stack([s.ranges for s in scans], len(scans[0]) if scans else 0, np.float64),
+        "stamps": np.array([s.stamp for s in scans], dtype=np.float64),
+    }
+    for key in PER_SCAN_KEYS:
+        arrays[key] = np.array([getattr(s, key) for s in scans], dtype=np.float64)
+    if scans and all(s.intensities is not None for s in scans):
+        arrays["intensities"] = np.array([s.intensities for s in scans])
+    return arrays
+
+
+def save_results(
+    path: str | Path, arrays: dict[str, np.ndarray], results: Sequence[FilterResult]
+) -> None:
+    """Write a filtered scan file: the input ``arrays`` with filtered ``ranges``, plus
+    ``removed`` and ``scores``.
+
+    Args:
+        path: the output ``.npz``.
+        arrays: the input file's arrays.
+        results: one result per scan, in order.
+    """
+    beams = np.shape(arrays["ranges"])[1]
+    output = dict(arrays)
+    output["ranges"] = _stack([r.scan.ranges for r in results], beams, np.float64)
+    output["removed"] = _stack([r.removed for r in results], beams, bool)
+    output["scores"] = _stack([r.scores for r in results], beams, np.float64)
+    np.savez_compressed(path, **output)
+
+
+def _per_scan(arrays: dict[str, np.ndarray], key: str, count: int, source: str) -> np.ndarray:
+    values = np.asarray(arrays[key], dtype=np.float64)
+    if values.shape not in ((), (count,)):
+        raise ValueError(
+            f"{source}: {key}: must be one value or one per scan ({count}), "
+            f"got shape {values.shape}"
+        )
+    return np.broadcast_to(values, (count,))
+
+
+def _stack(rows: list[np.ndarray], beams: int, dtype: type) -> np.ndarray:
+    return np.array(rows, dtype=dtype).reshape(len(rows), beams)

@@ -1,0 +1,47 @@
+"""The pvfilter command: a scan file in, a filtered scan file out."""
+
+import numpy as np
+import pytest
+
+from pvfilter import PitchVariationFilter
+from pvfilter.cli import main
+from pvfilter.io import arrays_from_scans
+from pvfilter.synthetic import room_sequence
+
+
+@pytest.fixture
+def scan_file(tmp_path):
+    path = tmp_path / "scans.npz"
+    np.savez(path, **arrays_from_scans(room_sequence(30).scans))
+    return path
+
+
+@pytest.mark.parametrize("extra", [[], ["--threaded"]])
+def test_output_matches_the_library(scan_file, tmp_path, capsys, extra):
+    assert main([str(scan_file), str(tmp_path / "out.npz"), *extra]) == 0
+    assert "30 scans" in capsys.readouterr().out
+    pvf = PitchVariationFilter()
+    expected = np.array([pvf.process(s).removed for s in room_sequence(30).scans])
+    with np.load(tmp_path / "out.npz") as out:
+        np.testing.assert_array_equal(out["removed"], expected)
+
+
+def test_options_set_the_parameters(scan_file, tmp_path):
+    out = tmp_path / "out.npz"
+    assert main([str(scan_file), str(out), "--p-th", "1.0", "--clustering", "radius"]) == 0
+    with np.load(out) as data:
+        assert not data["removed"].any()
+
+
+def test_invalid_parameter_exits_with_the_field_message(scan_file, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main([str(scan_file), str(tmp_path / "out.npz"), "--d-th", "-1"])
+    assert exit_info.value.code == 2
+    assert "d_th: must be > 0 m, got -1.0" in capsys.readouterr().err
+
+
+def test_unreadable_file_is_an_error_not_a_traceback(tmp_path, capsys):
+    np.savez(tmp_path / "bad.npz", ranges=np.ones((2, 3)))
+    assert main([str(tmp_path / "bad.npz"), str(tmp_path / "out.npz")]) == 1
+    assert "stamps: missing" in capsys.readouterr().err
+    assert main([str(tmp_path / "absent.npz"), str(tmp_path / "out.npz")]) == 1

@@ -1,0 +1,73 @@
+"""Scan files: the .npz layout, round trips, and errors that name the key."""
+
+import numpy as np
+import pytest
+
+from pvfilter import PitchVariationFilter
+from pvfilter.io import arrays_from_scans, load_scans, save_results, scans_from_arrays
+from pvfilter.synthetic import room_sequence
+
+
+def minimal_arrays(count=3, beams=5):
+    return dict(
+        ranges=np.ones((count, beams)),
+        stamps=0.1 * np.arange(count),
+        angle_min=-1.0,
+        angle_increment=0.1,
+        range_min=0.05,
+        range_max=10.0,
+    )
+
+
+def test_scalar_fields_apply_to_every_scan_and_per_scan_fields_to_theirs():
+    arrays = minimal_arrays() | {"angle_min": np.array([-1.0, -0.5, 0.0])}
+    scans = scans_from_arrays(arrays)
+    assert [s.angle_min for s in scans] == [-1.0, -0.5, 0.0]
+    assert [s.angle_increment for s in scans] == [0.1] * 3
+    assert [s.stamp for s in scans] == pytest.approx([0.0, 0.1, 0.2])
+
+
+def test_scans_round_trip_through_a_file(tmp_path):
+    scans = room_sequence(4).scans
+    np.savez(tmp_path / "scans.npz", **arrays_from_scans(scans))
+    loaded = load_scans(tmp_path / "scans.npz")
+    for a, b in zip(scans, loaded, strict=True):
+        np.testing.assert_array_equal(a.ranges, b.ranges)
+        assert (a.stamp, a.angle_min, a.angle_increment, a.scan_time) == (
+            b.stamp,
+            b.angle_min,
+            b.angle_increment,
+            b.scan_time,
+        )
+
+
+def test_results_file_keeps_other_arrays_and_adds_masks(tmp_path):
+    scans = room_sequence(30).scans
+    arrays = arrays_from_scans(scans) | {"labels": np.zeros((30, 720), dtype=np.uint8)}
+    pvf = PitchVariationFilter()
+    results = [pvf.process(scan) for scan in scans]
+    save_results(tmp_path / "out.npz", arrays, results)
+    with np.load(tmp_path / "out.npz") as out:
+        assert out["removed"].shape == (30, 720) and out["removed"].dtype == bool
+        assert out["removed"].any()
+        np.testing.assert_array_equal(
+            np.isnan(out["ranges"]) & ~np.isnan(arrays["ranges"]), out["removed"]
+        )
+        np.testing.assert_array_equal(out["labels"], arrays["labels"])
+        np.testing.assert_array_equal(out["stamps"], arrays["stamps"])
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"stamps": None}, r"^f: stamps: missing"),
+        ({"ranges": np.ones(5)}, r"^f: ranges: must be 2-D"),
+        ({"angle_min": np.zeros(2)}, r"^f: angle_min: must be one value or one per scan"),
+        ({"intensities": np.ones((3, 4))}, r"^f: intensities: must have the shape"),
+        ({"angle_increment": np.array([0.1, -0.1, 0.1])}, r"^f: scan 1: angle_increment:"),
+    ],
+)
+def test_malformed_files_raise_naming_the_key(change, message):
+    arrays = {k: v for k, v in (minimal_arrays() | change).items() if v is not None}
+    with pytest.raises(ValueError, match=message):
+        scans_from_arrays(arrays, source="f")
