@@ -154,6 +154,13 @@ class Lidar:
         self._dirs_sensor = np.stack((np.cos(angles), np.sin(angles), np.zeros_like(angles)), -1)
         self._dirs_world = np.empty_like(self._dirs_sensor)
         self.surface_class = surface_classes(model)  # uint8 per geom id
+        # label of a hit per geom (before the normal test); the extra last entry serves
+        # geom id -1, so one gather labels misses too
+        by_class = np.full(max(SurfaceClass) + 1, BeamLabel.STATIC, dtype=np.uint8)
+        by_class[SurfaceClass.FLOOR] = BeamLabel.FLOOR
+        by_class[SurfaceClass.CEILING] = BeamLabel.CEILING
+        by_class[SurfaceClass.DYNAMIC] = BeamLabel.DYNAMIC
+        self._label_by_geom = np.append(by_class[self.surface_class], np.uint8(BeamLabel.NO_RETURN))
         self.geomgroup = np.ones(_NUM_GEOM_GROUPS, dtype=np.uint8)
         self.geomgroup[ROBOT_GEOM_GROUP] = 0
         m = self._useful_idx.size
@@ -181,34 +188,33 @@ class Lidar:
             self.model, data, position, self._dirs_world.reshape(-1), self.geomgroup, 1, -1,
             self._geom_ids, self._dist, self._normals, idx.size, cfg.range_max_m,
         )  # fmt: skip
-        hit = (self._geom_ids >= 0) & (self._dist <= cfg.range_max_m)
-        geom = np.where(hit, self._geom_ids, -1)
-        true_range = np.where(hit, self._dist, np.inf)
+        dist = self._dist
+        miss = (self._geom_ids < 0) | (dist > cfg.range_max_m)
+        geom = np.where(miss, -1, self._geom_ids).astype(np.int32)
 
         # labels from the noiseless hit and the surface normal
-        surface = self.surface_class[np.maximum(geom, 0)]
+        labels_useful = self._label_by_geom[geom]
         horizontal = np.abs(self._normals[2::3]) >= cfg.horizontal_normal_min_z
-        useful_labels = np.select(
-            [~hit, surface == SurfaceClass.FLOOR, surface == SurfaceClass.CEILING,
-             surface == SurfaceClass.DYNAMIC, horizontal],
-            [BeamLabel.NO_RETURN, BeamLabel.FLOOR, BeamLabel.CEILING, BeamLabel.DYNAMIC,
-             BeamLabel.HORIZONTAL],
-            BeamLabel.STATIC,
-        ).astype(np.uint8)  # fmt: skip
+        labels_useful[horizontal & (labels_useful == BeamLabel.STATIC)] = BeamLabel.HORIZONTAL
 
         # noise perturbs returns only; a return stays within [range_min, range_max]
-        noise = rng.standard_normal(self.num_beams)[idx] * cfg.range_noise_std_m
-        noisy = np.clip(true_range + noise, cfg.range_min_m, cfg.range_max_m)
-        useful_ranges = np.where(hit, noisy, np.inf)
-        useful_ranges[hit & (true_range < cfg.range_min_m)] = -np.inf
+        noise = rng.standard_normal(self.num_beams)[idx]
+        ranges_useful = np.clip(
+            dist + cfg.range_noise_std_m * noise, cfg.range_min_m, cfg.range_max_m
+        )
+        ranges_useful[dist < cfg.range_min_m] = -np.inf
+        ranges_useful[miss] = np.inf  # after -inf: a miss reports dist = -1
+
+        points_useful = position + self._dirs_world * dist[:, None]
+        points_useful[miss] = np.nan
 
         n = self.num_beams
         ranges = np.full(n, -np.inf)  # blocked beams: the leg is closer than range_min
-        ranges[idx] = useful_ranges
+        ranges[idx] = ranges_useful
         labels = np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8)
-        labels[idx] = useful_labels
+        labels[idx] = labels_useful
         geom_ids = np.full(n, -1, dtype=np.int32)
         geom_ids[idx] = geom
         points = np.full((n, 3), np.nan)
-        points[idx[hit]] = position + self._dirs_world[hit] * true_range[hit, None]
+        points[idx] = points_useful
         return LidarReading(ranges, labels, points, geom_ids, position, rotation)

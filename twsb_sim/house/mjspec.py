@@ -51,8 +51,9 @@ def add_house_to_spec(spec: mujoco.MjSpec, house: House) -> None:
             pos=[(room.x_min_m + room.x_max_m) / 2, (room.y_min_m + room.y_max_m) / 2,
                  house.ceiling_height_m - 0.05],
             dir=[0.0, 0.0, -1.0],
+            type=mujoco.mjtLightType.mjLIGHT_POINT,
             castshadow=0,
-            diffuse=[0.35, 0.35, 0.33],
+            diffuse=[0.3, 0.3, 0.28],
         )  # fmt: skip
 
 
