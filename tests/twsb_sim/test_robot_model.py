@@ -116,6 +116,14 @@ def test_motor_limit_friction_and_wheel_radius_overrides(robot_on_floor):
     assert data.site(LIDAR_SITE).xpos[2] == pytest.approx(0.25)
 
 
+def test_wheel_friction_sets_the_floor_contact_friction(robot_on_floor):
+    model, data = robot_on_floor(RobotConfig(wheel_friction=0.6))
+    model.geom("floor").friction[0] = 1.5  # a house surface with its own friction
+    mujoco.mj_step(model, data, nstep=5)
+    assert data.ncon > 0
+    assert all(contact.friction[0] == pytest.approx(0.6) for contact in data.contact)
+
+
 @pytest.mark.parametrize(
     ("field", "value"),
     [
