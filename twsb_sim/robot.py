@@ -139,8 +139,7 @@ class RobotHandles:
         }
 
     def read_balance_state(self, data: mujoco.MjData) -> BalanceState:
-        """Read pitch, rates, velocities and wheel speeds from ``data`` (no derived fields
-        needed: only ``qpos`` and ``qvel``)."""
+        """The balance state now, from ``qpos`` and ``qvel`` alone (cheap: every step)."""
         a = self.qpos_adr
         b = self.qvel_adr
         qw, qx, qy, qz = data.qpos[a + 3 : a + 7].tolist()
@@ -170,8 +169,13 @@ class RobotHandles:
         )
 
     def read_imu(self, data: mujoco.MjData) -> tuple[list[float], list[float], list[float]]:
-        """The IMU's gyro (rad/s, imu frame), accelerometer (m/s², imu frame, includes
-        gravity) and orientation quaternion (w, x, y, z, imu frame in world)."""
+        """The IMU's readings (``data.sensordata``, valid after ``mj_forward``/``mj_step``).
+
+        Returns:
+            ``(gyro, accel, quat)``: angular velocity in rad/s and specific force in m/s²
+            (gravity included: +9.81 on z at rest), both in the imu frame; orientation of
+            the imu frame in the world as (w, x, y, z).
+        """
         s = data.sensordata
         return tuple(s[self.imu_slices[name]].tolist() for name in IMU_SENSORS)
 
