@@ -11,7 +11,7 @@ fails. It does not say which points are a point's neighbours, so both readings a
   condition fails), it is the classic jump-distance segmentation of a 2D scan, and it is
   linear in the number of beams.
 - ``"radius"``: a point's neighbours are all points within ``d_th`` (Euclidean
-  clustering), computed as the connected components of the KD-tree's radius graph. It
+  clustering): the connected components of the KD-tree's radius graph. It
   also joins points that are close in space but far apart in beam order, e.g. across a
   gap in the field of view.
 
@@ -34,8 +34,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from pvfilter.params import FilterParams
@@ -131,18 +129,31 @@ def scan_order_labels(points: np.ndarray, d_th: float, ring: bool = False) -> np
 def radius_labels(tree: cKDTree, d_th: float) -> np.ndarray:
     """Label the connected components of the graph joining points at most ``d_th`` apart.
 
+    Runs that are joined in scan order are joined here too, so the components are found
+    over the few runs (min-label propagation with pointer jumping) rather than the points.
+
     Args:
-        tree: KD-tree over the valid points.
+        tree: KD-tree over the valid points, in beam order.
         d_th: clustering distance, m.
 
     Returns:
-        Cluster id per point in the tree's order, numbered from 0 by first point.
+        Cluster id per point in the tree's order, numbered from 0 in order of first point.
     """
-    pairs = tree.query_pairs(d_th, output_type="ndarray")
-    ones = np.ones(len(pairs), dtype=np.int8)
-    graph = coo_matrix((ones, (pairs[:, 0], pairs[:, 1])), shape=(tree.n, tree.n))
-    # components are numbered in the order of their lowest point index
-    return connected_components(graph, directed=False)[1]
+    runs = scan_order_labels(tree.data, d_th)
+    pairs = runs[tree.query_pairs(d_th, output_type="ndarray")]
+    pairs = pairs[pairs[:, 0] != pairs[:, 1]]  # links between different runs
+    roots = np.arange(runs[-1] + 1 if len(runs) else 0)
+    while True:
+        lowest = roots[pairs].min(axis=1)
+        joined = roots.copy()
+        np.minimum.at(joined, pairs[:, 0], lowest)
+        np.minimum.at(joined, pairs[:, 1], lowest)
+        joined = joined[joined]  # pointer jumping: follow each root to its own root
+        if np.array_equal(joined, roots):
+            break
+        roots = joined
+    # every run now names the lowest run of its component; renumber those 0..k-1
+    return np.unique(roots, return_inverse=True)[1][runs]
 
 
 def drop_small_clusters(labels: np.ndarray, m_th: int) -> np.ndarray:

@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from pvfilter import FilterParams, Scan
@@ -88,3 +90,19 @@ def test_kd_tree_holds_every_valid_point_clustered_or_not():
     clusters = cluster_scan(scan, FilterParams())
     assert len(clusters) == 0  # all smaller than m_th
     assert clusters.tree.n == 3
+
+
+def test_radius_labels_are_the_connected_components_of_the_radius_graph():
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        points = rng.uniform(0.0, rng.uniform(0.5, 8.0), size=(rng.integers(0, 150), 2))
+        tree = cKDTree(points)
+        pairs = tree.query_pairs(0.3, output_type="ndarray")
+        graph = coo_matrix((np.ones(len(pairs)), pairs.T), shape=(len(points), len(points)))
+        reference = connected_components(graph, directed=False)[1]
+        labels = radius_labels(tree, 0.3)
+        # the same partition, numbered in order of first point
+        same_cluster = labels[:, None] == labels[None, :]
+        np.testing.assert_array_equal(same_cluster, reference[:, None] == reference[None, :])
+        first_points = np.unique(labels, return_index=True)[1]
+        assert (np.diff(first_points) > 0).all()
