@@ -105,6 +105,7 @@ def run_scenario(
         summary.max_abs_pitch_deg = max(
             summary.max_abs_pitch_deg, math.degrees(sim.max_abs_pitch_rad)
         )
+        summary.mujoco_warnings = sim.mujoco_warnings()
         for sink in sinks:
             sink.close(summary)
     return summary

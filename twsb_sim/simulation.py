@@ -103,6 +103,14 @@ class Simulation:
         """Current pitch (positive = nose down)."""
         return self.handles.read_balance_state(self.data).pitch_rad
 
+    def mujoco_warnings(self) -> dict[str, int]:
+        """MuJoCo's warnings since the last reset, by name (empty when all is well)."""
+        return {
+            mujoco.mjtWarning(i).name.removeprefix("mjWARN_"): int(stat.number)
+            for i, stat in enumerate(self.data.warning)
+            if stat.number > 0
+        }
+
     def has_fallen(self) -> bool:
         return abs(self.pitch_rad()) > self.fall_pitch_rad
 
@@ -121,8 +129,12 @@ class Simulation:
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
+        controller = self.controller
         for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
             apply(data, v, w)
+            pitch = controller.last_pitch_rad
+            if pitch > max_pitch or -pitch > max_pitch:
+                max_pitch = abs(pitch)
             if shove is not None:
                 self._apply_shove(shove)
             mujoco.mj_step(model, data)

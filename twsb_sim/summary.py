@@ -64,6 +64,7 @@ class RunSummary:
     mean_pitch_variation_beams: float = 0.0  # per frame
     fell: bool = False
     end_reason: str = "completed"  # "completed", "fell: ...", "interrupted"
+    mujoco_warnings: dict[str, int] = field(default_factory=dict)  # MuJoCo's warnings by name
     filter_name: str | None = None
     filter_counts: FilterCounts | None = None
     filter_removed_beams: int = 0
@@ -117,6 +118,10 @@ class RunSummary:
             f"falls           {1 if self.fell else 0}",
             f"ended           {self.end_reason}",
         ]
+        if self.mujoco_warnings:
+            lines.append(
+                "MuJoCo warnings " + ", ".join(f"{k} x{v}" for k, v in self.mujoco_warnings.items())
+            )
         if self.filter_counts is not None:
             c = self.filter_counts
             lines.append(

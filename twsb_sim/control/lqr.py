@@ -67,6 +67,7 @@ class LqrController:
 
     def reset(self) -> None:
         """Forget the integrated tracking errors (a new run)."""
+        self.last_pitch_rad = 0.0  # rad, pitch read by the latest apply()
         self.velocity_error_integral_m = 0.0  # m
         self.yaw_rate_error_integral_rad = 0.0  # rad
 
@@ -87,6 +88,7 @@ class LqrController:
             ``(left, right)`` wheel torques in N·m, saturated at the motor limit.
         """
         s = self._read(data)
+        self.last_pitch_rad = s.pitch_rad  # the loop tracks the peak pitch without re-reading
         k0, k1, k2, k3 = self._k
         ky0, ky1 = self._k_yaw
         velocity_error = s.forward_velocity_mps - velocity_command_mps

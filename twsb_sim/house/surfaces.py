@@ -21,8 +21,7 @@ import mujoco
 import numpy as np
 
 from twsb_sim.house.furniture import FURNITURE_KINDS
-
-ROBOT_GEOM_GROUP = 3  # the robot's geoms live here; the LiDAR never sees this group
+from twsb_sim.robot import ROBOT_GEOM_GROUP  # the LiDAR never sees this group
 
 
 class SurfaceClass(IntEnum):
