@@ -31,7 +31,7 @@ class StampWentBackWarning(UserWarning):
     """A scan's stamp was earlier than the previous scan's; the filter's history was reset."""
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, eq=False)  # holds an array: no field-wise ==
 class ClusterRecord:
     """One seed cluster of a scan and what the filter decided about it.
 
