@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from pvfilter.io import PER_SCAN_KEYS
 from twsb_sim.frame import Frame, truth_arrays
 from twsb_sim.summary import RunSummary
 
@@ -84,14 +85,7 @@ class FrameWriter:
             ),
             "phases": np.array([f.phase for f in self._frames]),
         }
-        for name in (
-            "angle_min",
-            "angle_increment",
-            "range_min",
-            "range_max",
-            "time_increment",
-            "scan_time",
-        ):
+        for name in PER_SCAN_KEYS:  # the LaserScan intrinsics, as the pvfilter command reads them
             arrays[name] = np.float64(getattr(scan, name))
         if self._removed:
             arrays["removed"] = np.stack(self._removed)
