@@ -1,0 +1,64 @@
+"""The ``twsb run`` command: a summary, written frames, one-line errors, exit codes."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from twsb_sim.cli import EXIT_FELL, EXIT_USAGE, main
+
+SHORT = """
+duration_s = 1.0
+[[commands]]
+t_s = 0.2
+velocity_mps = 0.5
+ramp_s = 0.5
+"""
+
+
+def test_run_prints_a_summary_and_writes_frames(tmp_path, capsys):
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SHORT)
+    out = tmp_path / "run"
+    assert main(["run", str(scenario), "--seed", "2", "--out", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    expected = ("simulated", "real time", "frames", "max |pitch|", "beams by label", "falls")
+    for item in (*expected, "filter"):
+        assert item in printed
+    with np.load(out / "frames.npz") as frames:
+        assert frames["ranges"].shape == (11, 720)
+        assert frames["labels"].dtype == np.uint8
+        assert frames["removed"].shape == (11, 720)
+        assert frames["truth_pitch_rad"].shape == (11,)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["frames"] == 11 and summary["seed"] == 2
+    assert (out / "scenario.toml").read_text() == SHORT
+
+
+def test_shipped_scenarios_are_found_by_name(capsys):
+    assert main(["run", "no_such_scenario"]) == EXIT_USAGE
+    error = capsys.readouterr().err
+    assert "no such scenario file" in error and "hard_stop" in error
+
+
+def test_bad_scenario_is_one_line_naming_file_and_key(tmp_path, capsys):
+    scenario = tmp_path / "bad.toml"
+    scenario.write_text("duration_s = 1.0\n[robot]\nlidar_hieght_m = 0.3\n")
+    assert main(["run", str(scenario)]) == EXIT_USAGE
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "Traceback" not in error
+    assert str(scenario) in error and "robot.lidar_hieght_m" in error and "unknown key" in error
+
+
+def test_a_fall_exits_with_its_own_status_and_keeps_the_frames(tmp_path, capsys):
+    scenario = tmp_path / "fall.toml"
+    scenario.write_text(
+        "duration_s = 4.0\n[[shoves]]\nt_s = 0.5\nforce_n = [300.0, 0.0, 0.0]\nduration_s = 0.5\n"
+    )
+    out = tmp_path / "run"
+    assert main(["run", str(scenario), "--out", str(out), "--quiet", "--no-filter"]) == EXIT_FELL
+    assert "fell: |pitch|" in capsys.readouterr().out
+    with np.load(out / "frames.npz") as frames:
+        assert 0 < len(frames["stamps"]) < 41
+        assert "removed" not in frames.files
