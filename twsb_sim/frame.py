@@ -67,6 +67,8 @@ class Frame:
             NaN where it hit nothing within range; noise-free.
         truth: the robot's state.
         phase: the scenario phase in force ("hard stop", ...), "" when none.
+        geom_ids: ``int32[n]``, the MuJoCo geom each beam hit, -1 where none (ids of the
+            run's compiled model; ``mujoco.mj_id2name`` names them); None when unknown.
     """
 
     index: int
@@ -75,9 +77,12 @@ class Frame:
     hit_points_world: np.ndarray
     truth: RobotTruth
     phase: str = ""
+    geom_ids: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "labels", _frozen(self.labels, np.uint8))
+        if self.geom_ids is not None:
+            object.__setattr__(self, "geom_ids", _frozen(self.geom_ids, np.int32))
         object.__setattr__(self, "hit_points_world", _frozen(self.hit_points_world, np.float64))
         if self.labels.shape != self.scan.ranges.shape:
             raise ValueError(

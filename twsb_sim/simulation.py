@@ -194,6 +194,7 @@ class Simulation:
             hit_points_world=reading.hit_points_world,
             truth=self.truth(),
             phase=phase,
+            geom_ids=reading.geom_ids,
         )
 
     def truth(self) -> RobotTruth:
