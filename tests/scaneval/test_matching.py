@@ -6,11 +6,13 @@ from scipy.spatial import cKDTree
 
 from scaneval.geometry import scan_points, transform_points, wrap_angle
 from scaneval.match_result import fitness
-from scaneval.matching import MATCHERS, icp, rigid_fit
+from scaneval.matching import MATCHERS, hsm, icp, rigid_fit
 from scaneval.metrics import chamfer_distance
 from scaneval.synthetic import cluttered_room, scan_from_pose
 
-FINE = {"icp": (0.02, math.radians(0.5))}  # m, rad
+# stated tolerances (m, rad): 2 cm and 0.5 degrees; for HSM that is one bin of its
+# Hough directions (0.5 degrees) and one bin of its projections (2 cm)
+FINE = {name: (0.02, math.radians(0.5)) for name in ("icp", "ndt", "hsm")}
 
 
 def pose_error(estimated, truth):
@@ -71,3 +73,36 @@ def test_icp_with_too_few_points_reports_not_converged():
     match = icp(np.zeros((2, 2)), np.ones((10, 2)))
     assert not match.converged
     assert match.iterations == 0
+
+
+def test_hsm_recovers_large_rotation_without_initial_guess():
+    room = cluttered_room()
+    truth = np.array([0.6, -0.4, math.radians(100.0)])
+    target = scan_points(scan_from_pose(room, (0.0, 0.0, 0.0), rng=np.random.default_rng(5)))
+    source = scan_points(scan_from_pose(room, truth, rng=np.random.default_rng(6)))
+    translation_error, rotation_error = pose_error(hsm(source, target).pose, truth)
+    assert translation_error < 0.02
+    assert rotation_error < math.radians(0.5)
+
+
+@pytest.mark.parametrize("name", ["icp", "ndt"])
+def test_local_matcher_starts_from_initial_pose(name):
+    room = cluttered_room()
+    truth = np.array([0.6, -0.4, math.radians(100.0)])
+    target = scan_points(scan_from_pose(room, (0.0, 0.0, 0.0), rng=np.random.default_rng(5)))
+    source = scan_points(scan_from_pose(room, truth, rng=np.random.default_rng(6)))
+    guess = truth + np.array([0.1, 0.1, 0.05])
+    translation_error, rotation_error = pose_error(
+        MATCHERS[name](source, target, initial_pose=guess).pose, truth
+    )
+    assert translation_error < 0.02
+    assert rotation_error < math.radians(0.5)
+
+
+@pytest.mark.parametrize("name", sorted(MATCHERS))
+def test_matcher_of_identical_scans_returns_identity(name, room_pair):
+    _, target, _ = room_pair
+    match = MATCHERS[name](target, target)
+    np.testing.assert_allclose(match.pose, 0.0, atol=1e-3)
+    assert match.fitness < 1e-6  # m^2: NDT fits cell Gaussians, not the points themselves
+    assert match.inlier_fraction == 1.0
