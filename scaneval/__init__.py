@@ -7,6 +7,7 @@ per-beam PR and AUC, ATE, TUM files) and :mod:`scaneval.baselines` (filters to c
 with: no filter, a DATMO-like tracker, an IMU height gate).
 """
 
+from scaneval.baselines import DatmoLikeFilter, ImuHeightGate, NoFilter
 from scaneval.geometry import compose, invert, scan_points, se2_matrix, transform_points
 from scaneval.matching import MATCHERS, MatchResult, hsm, icp, ndt
 from scaneval.metrics import (
@@ -24,7 +25,10 @@ from scaneval.metrics import (
 __all__ = [
     "MATCHERS",
     "AteResult",
+    "DatmoLikeFilter",
+    "ImuHeightGate",
     "MatchResult",
+    "NoFilter",
     "PrCurve",
     "ate",
     "auc_pr",
