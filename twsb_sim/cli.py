@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.evaluation.cli import add_eval_parser
 
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
@@ -85,6 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_run_parser(commands)
+    add_eval_parser(commands)
     return parser
 
 

@@ -1,0 +1,122 @@
+"""Simulate a sequence once and keep its frames: every method then runs on the same data.
+
+A :class:`Recording` is one (sequence, house, seed) run: its frames, the names of the
+geoms the beams can hit (so a false alarm can say it hit a door frame), and the robot's
+LiDAR height (for the IMU height gate).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import mujoco
+
+from twsb_sim.cli import resolve_scenario
+from twsb_sim.frame import Frame
+from twsb_sim.house import House
+from twsb_sim.runner import build_house, run_scenario
+from twsb_sim.scenario import HouseChoice, Scenario, load_scenario
+from twsb_sim.simulation import build_model
+from twsb_sim.sinks import NullSink
+from twsb_sim.summary import RunSummary
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Recording:
+    """The frames of one simulated run, and what is needed to explain them.
+
+    Attributes:
+        sequence: scenario name (``normal_sequence``, ...).
+        house: house name (``house1``, ``random_3``, ...).
+        seed: the run's seed.
+        frames: every LiDAR frame, in time order.
+        geom_names: name of every geom of the run's model, indexed by geom id.
+        lidar_height_m: the scanner's height above the floor when upright, m.
+        axle_height_m: the wheel axle's height (the robot pitches about it), m.
+        summary: the run's summary (falls, pitch, label counts).
+    """
+
+    sequence: str
+    house: str
+    seed: int
+    frames: tuple[Frame, ...]
+    geom_names: tuple[str, ...]
+    lidar_height_m: float
+    axle_height_m: float
+    summary: RunSummary
+
+    @property
+    def run_id(self) -> str:
+        return f"{self.sequence}/{self.house}/seed{self.seed}"
+
+
+class _Collect(NullSink):
+    def __init__(self) -> None:
+        self.frames: list[Frame] = []
+
+    def on_frame(self, frame: Frame, filter_result: object) -> None:
+        self.frames.append(frame)
+
+
+def widest_lane_spawn(house: House) -> int:
+    """Index of the spawn pose with the most room both ahead and behind.
+
+    The sequences drive forward, turn around and drive back, so they want a long lane
+    in both directions (house1's is spawn 3, the one the shipped sequences use).
+    """
+    lanes = [min(p.clear_ahead_m, p.clear_behind_m) for p in house.spawn_poses]
+    return max(range(len(lanes)), key=lanes.__getitem__)
+
+
+def sequence_in_house(
+    sequence: str, house_name: str | None, house_seed: int | None, duration_s: float | None
+) -> tuple[Scenario, House]:
+    """A shipped sequence moved into another house (at its widest lane), optionally cut.
+
+    Args:
+        sequence: shipped scenario name.
+        house_name: a named layout, or None for a random house.
+        house_seed: the random house's seed (with ``house_name`` None).
+        duration_s: keep only this many simulated seconds (commands and shoves that end
+            later are dropped); None keeps the whole sequence.
+    """
+    scenario = load_scenario(resolve_scenario(sequence))
+    choice = HouseChoice(name=house_name, seed=house_seed)
+    house = build_house(choice)
+    choice = dataclasses.replace(choice, spawn=widest_lane_spawn(house))
+    scenario = dataclasses.replace(scenario, house=choice)
+    if duration_s is not None and duration_s < scenario.duration_s:
+        scenario = dataclasses.replace(
+            scenario,
+            duration_s=duration_s,
+            commands=tuple(c for c in scenario.commands if c.t_s + c.ramp_s <= duration_s),
+            shoves=tuple(s for s in scenario.shoves if s.end_s <= duration_s),
+        )
+    return scenario, house
+
+
+def record(scenario: Scenario, house: House, seed: int, progress: bool = False) -> Recording:
+    """Simulate ``scenario`` once (no filter in the loop) and keep every frame.
+
+    Args:
+        scenario: the run; ``house`` must be the house it asks for.
+        house: its house (built once by the caller, to name the geoms).
+        seed: the run's seed.
+        progress: show the runner's progress bar.
+    """
+    collect = _Collect()
+    summary = run_scenario(scenario, seed=seed, sinks=[collect], progress=progress)
+    model = build_model(house, scenario.robot)
+    names = tuple(
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or "" for i in range(model.ngeom)
+    )
+    return Recording(
+        sequence=scenario.name,
+        house=house.name,
+        seed=seed,
+        frames=tuple(collect.frames),
+        geom_names=names,
+        lidar_height_m=scenario.robot.lidar_height_m,
+        axle_height_m=scenario.robot.wheel_radius_m,
+        summary=summary,
+    )
