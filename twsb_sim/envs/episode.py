@@ -1,4 +1,4 @@
-"""What the environment tracks within one episode, and how it decides that the robot fell."""
+"""What the environment tracks within one episode: its state, falls, and the ``info``."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from twsb_sim.frame import Frame, RobotTruth
+from twsb_sim.simulation import Simulation
 
 _UNSTABLE_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQPOS)
 
@@ -62,3 +63,30 @@ def fall_reason(
             f" > {math.degrees(fall_roll_rad):.0f} deg"
         )
     return ""
+
+
+def step_info(
+    episode: EpisodeState, truth: RobotTruth, sim: Simulation, with_filter: bool
+) -> dict[str, Any]:
+    """The ``info`` of a reset or a step (without the reward terms): ground truth of the
+    latest scan and of the robot now, each array a new copy."""
+    frame = episode.frame
+    info: dict[str, Any] = {
+        "time_s": sim.time_s,
+        "house": sim.house.name,
+        "pose_world": np.array([*truth.position_base_in_world[:2], truth.yaw_rad]),
+        "pitch_rad": truth.pitch_rad,
+        "roll_rad": truth.roll_rad,
+        "pitch_rate_rad_s": truth.pitch_rate_rad_s,
+        "forward_velocity_mps": truth.forward_velocity_mps,
+        "yaw_rate_rad_s": truth.yaw_rate_rad_s,
+        "labels": frame.labels.copy(),
+        "scan_ranges_m": frame.scan.ranges.copy(),
+        "scan_stamp_s": frame.stamp_s,
+        "shove_active": episode.shove_end_step is not None,
+        "hard_stop_active": episode.hard_stop_active,
+        "fall_reason": episode.fall_reason,
+    }
+    if with_filter:
+        info["filter_removed"] = np.array(episode.filter_result.removed, dtype=bool)
+    return info

@@ -19,9 +19,11 @@ large error is not punished without limit and the fall penalty stays the worst o
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
+
+from twsb_sim.envs.options import check_non_negative
 
 REWARD_TERMS = ("velocity", "yaw_rate", "pitch", "pitch_rate", "torque", "fall")
 
@@ -40,12 +42,7 @@ class RewardConfig:
     fall: float = 10.0  # one-off penalty when the robot falls
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ValueError(f"{f.name}: expected a number, got {value!r}")
-            if not math.isfinite(value) or value < 0:
-                raise ValueError(f"{f.name}: expected a finite value >= 0, got {value!r}")
+        check_non_negative(self)
         for name in ("velocity_scale_mps", "yaw_rate_scale_rad_s"):
             if getattr(self, name) == 0:
                 raise ValueError(f"{name}: expected a value > 0, got 0")

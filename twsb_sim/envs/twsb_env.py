@@ -19,44 +19,36 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
-from pvfilter import FilterParams, PitchVariationFilter
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.envs.disturbances import Disturbances, draw_hard_stop, draw_shove
-from twsb_sim.envs.episode import EpisodeState, fall_reason
-from twsb_sim.envs.houses import HouseOption, SimulationCache, check_house_option, choose_house
+from twsb_sim.envs.episode import EpisodeState, fall_reason, step_info
+from twsb_sim.envs.houses import (
+    HouseKey,
+    HouseOption,
+    SimulationCache,
+    check_house_option,
+    choose_house,
+)
 from twsb_sim.envs.observation import WheelOdometry, make_observation, observation_space
+from twsb_sim.envs.options import Range, coerce, make_scan_filter, value_range
 from twsb_sim.envs.render import TrackingRenderer
 from twsb_sim.envs.reward import RewardConfig, reward_terms
-from twsb_sim.frame import Frame, RobotTruth
+from twsb_sim.frame import RobotTruth
 from twsb_sim.house import House
 from twsb_sim.lidar import LidarConfig
-from twsb_sim.robot import RobotConfig
+from twsb_sim.robot import RobotConfig, load_robot_spec
+from twsb_sim.scenario import HouseChoice, Scenario, SimulationConfig
 from twsb_sim.simulation import Shove, Simulation
 from twsb_sim.sinks import FrameSink, NullSink
 from twsb_sim.summary import RunSummary
 from twsb_sim.timeline import heading_force_to_world
 
 RESET_OPTIONS = ("house", "spawn", "target")
-Range = float | tuple[float, float]
 
 
-def _range(name: str, value: Range, limit: float) -> tuple[float, float]:
-    low, high = (value, value) if isinstance(value, int | float) else tuple(value)
-    if not -limit <= low <= high <= limit:
-        raise ValueError(
-            f"{name}: expected a value or (low, high) within ±{limit:g}, got {value!r}"
-        )
-    return float(low), float(high)
-
-
-def _make_filter(scan_filter: Any) -> Any | None:
-    if scan_filter is None or scan_filter is False:
-        return None
-    if scan_filter is True:
-        return PitchVariationFilter()
-    if isinstance(scan_filter, FilterParams):
-        return PitchVariationFilter(scan_filter)
-    return scan_filter  # anything with process(scan) -> result.removed, and reset()
+def _next_multiple(step: int, every: int) -> int | None:
+    """The next physics step after ``step`` that is a multiple of ``every`` (None if 0)."""
+    return (step // every + 1) * every if every else None
 
 
 class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -72,7 +64,7 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             (low, high) range drawn from per reset; m/s and rad/s.
         max_velocity_mps, max_yaw_rate_rad_s: bounds of the targets (and of the velocity
             variant's actions).
-        reward: weights of the reward terms.
+        reward: weights of the reward terms (a :class:`RewardConfig` or a dict of its fields).
         disturbances: shoves and hard stops (a :class:`Disturbances` or a dict of its
             fields); none by default.
         scan_filter: True for a :class:`pvfilter.PitchVariationFilter` with Table I
@@ -98,7 +90,7 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         target_yaw_rate_rad_s: Range = (-0.3, 0.3),
         max_velocity_mps: float = 1.0,
         max_yaw_rate_rad_s: float = 1.0,
-        reward: RewardConfig | None = None,
+        reward: RewardConfig | dict[str, float] | None = None,
         disturbances: Disturbances | dict[str, Any] | None = None,
         scan_filter: Any = None,
         sink: FrameSink | None = None,
@@ -116,24 +108,25 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self._house_option, self._spawn = house, spawn
         self._target_ranges = (
-            _range("target_velocity_mps", target_velocity_mps, max_velocity_mps),
-            _range("target_yaw_rate_rad_s", target_yaw_rate_rad_s, max_yaw_rate_rad_s),
+            value_range("target_velocity_mps", target_velocity_mps, max_velocity_mps),
+            value_range("target_yaw_rate_rad_s", target_yaw_rate_rad_s, max_yaw_rate_rad_s),
         )
-        self.reward_config = reward if reward is not None else RewardConfig()
-        self.disturbances = Disturbances.coerce(disturbances)
-        self.scan_filter = _make_filter(scan_filter)
+        self.reward_config = coerce(RewardConfig, reward, "reward")
+        self.disturbances = coerce(Disturbances, disturbances, "disturbances")
+        self.scan_filter = make_scan_filter(scan_filter)
         self.sink: FrameSink = sink if sink is not None else NullSink()
         self.fall_roll_rad = math.radians(fall_roll_deg)
-        lidar = lidar if lidar is not None else LidarConfig()
+        self.robot_config = robot = robot if robot is not None else RobotConfig()
+        self.lidar_config = lidar = lidar if lidar is not None else LidarConfig()
+        self.controller_config = controller if controller is not None else LqrConfig()
+        self.fall_pitch_deg = fall_pitch_deg
 
         def build(h: House) -> Simulation:
-            return Simulation(
-                h, robot or RobotConfig(), lidar, controller or LqrConfig(), fall_pitch_deg
-            )
+            return Simulation(h, robot, lidar, self.controller_config, fall_pitch_deg)
 
         self._sims = SimulationCache(build)
-        self.sim = self._sims.get(choose_house(house, np.random.default_rng(0)))
-        dt = self.sim.dt_s
+        self.sim: Simulation | None = None  # the current house's, from the first reset on
+        dt = float(load_robot_spec(robot).option.timestep)
         self.steps_per_control = round(control_period_s / dt)
         if self.steps_per_control < 1 or abs(self.steps_per_control * dt - control_period_s) > 1e-9:
             raise ValueError(
@@ -142,6 +135,9 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         self.control_period_s = self.steps_per_control * dt
         self.steps_per_scan = round(1.0 / (lidar.rate_hz * dt))
+        # optional sink hook: robot states between scans, for sinks that set a rate
+        state_rate_hz = getattr(self.sink, "state_rate_hz", None)
+        self.steps_per_state = max(1, round(1.0 / (state_rate_hz * dt))) if state_rate_hz else 0
         self.metadata = {**self.metadata, "render_fps": round(1.0 / self.control_period_s)}
         self._target_limits = (max_velocity_mps, max_yaw_rate_rad_s)
         self.observation_space = observation_space(
@@ -177,7 +173,8 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         rng = self.np_random
         house = options.get("house", self._house_option)
         check_house_option(house)
-        self.sim = sim = self._sims.get(choose_house(house, rng))
+        house_key = choose_house(house, rng)
+        self.sim = sim = self._sims.get(house_key)
         poses = sim.house.spawn_poses
         spawn = options.get("spawn", self._spawn)
         if spawn is None:
@@ -201,15 +198,19 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             seed=noise_seed,
             house=sim.house.name,
         )
+        if hasattr(self.sink, "on_start"):  # optional sink hook, as in the scenario runner
+            self.sink.on_start(self._scenario(house_key, spawn, noise_seed), sim)
         pose = poses[spawn]
         self.sink.on_event(
             0.0,
             f"episode {self._episodes}: {sim.house.name}, spawn {spawn} at "
             f"({pose.x_m:.2f}, {pose.y_m:.2f}) m, {math.degrees(pose.yaw_rad):.0f} deg",
         )
+        if self.steps_per_state:
+            self.sink.on_state(sim.truth())
         self._take_frame()
         truth = self._episode.frame.truth
-        return self._observation(truth), self._info(truth)
+        return self._observation(truth, self._odometry.pose.copy()), self._info(truth)
 
     def step(
         self, action: np.ndarray
@@ -221,8 +222,9 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         end = episode.step + self.steps_per_control
         while episode.step < end:
             # run to the next breakpoint: a scan, the end of a shove or hard stop, the step's end
-            next_scan = (episode.step // self.steps_per_scan + 1) * self.steps_per_scan
-            stops = [end, next_scan, episode.shove_end_step, episode.hard_stop_end_step]
+            next_scan = _next_multiple(episode.step, self.steps_per_scan)
+            next_state = _next_multiple(episode.step, self.steps_per_state)
+            stops = [end, next_scan, next_state, episode.shove_end_step, episode.hard_stop_end_step]
             until = min(k for k in stops if k is not None)
             self._advance(action, until - episode.step, episode.hard_stop_active)
             episode.step = until
@@ -231,6 +233,8 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 episode.shove_end_step = None
             if until == episode.hard_stop_end_step:
                 episode.hard_stop_end_step = None
+            if until == next_state:
+                self.sink.on_state(sim.truth())
             if until == next_scan:
                 self._take_frame()
         truth = self._truth_now(episode)
@@ -257,7 +261,9 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info = self._info(truth)
         info.update(terms)
         reward = float(sum(terms.values()))
-        return self._observation(truth), reward, bool(episode.fall_reason), False, info
+        odometry = self._odometry.update(self._wheel_angles())
+        observation = self._observation(truth, odometry)
+        return observation, reward, bool(episode.fall_reason), False, info
 
     def render(self) -> np.ndarray | None:
         """An RGB picture (uint8[height, width, 3]) from a camera following the robot, with
@@ -265,16 +271,15 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         ``"rgb_array"``."""
         if self.render_mode != "rgb_array":
             return None
+        self._require_episode()
         if self._renderer is None or self._renderer.model is not self.sim.model:
             self._close_renderer()
             width, height = self._render_size
             self._renderer = TrackingRenderer(
                 self.sim.model, self.sim.handles.base_body_id, width, height
             )
-        episode = self._episode
-        frame = episode.frame if episode is not None else None
-        yaw = frame.truth.yaw_rad if frame is not None else 0.0
-        return self._renderer.render(self.sim.data, yaw, frame)
+        frame = self._require_episode().frame
+        return self._renderer.render(self.sim.data, frame.truth.yaw_rad, frame)
 
     def close(self) -> None:
         """Free the renderer and hand the last episode's summary to the sink (once)."""
@@ -287,13 +292,13 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def _require_episode(self) -> EpisodeState:
         if self._episode is None:
-            raise gym.error.ResetNeeded("call reset() before step()")
+            raise gym.error.ResetNeeded("call reset() before step() or render()")
         return self._episode
 
     def _check_target(self, value: Any) -> tuple[float, float]:
         v, w = (float(x) for x in value)
-        _range("target velocity", v, self._target_limits[0])
-        _range("target yaw rate", w, self._target_limits[1])
+        value_range("target velocity", v, self._target_limits[0])
+        value_range("target yaw rate", w, self._target_limits[1])
         return v, w
 
     def _start_disturbances(self, episode: EpisodeState) -> None:
@@ -331,39 +336,36 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def _wheel_angles(self) -> np.ndarray:
         return self.sim.data.qpos[list(self.sim.handles.wheel_qpos_adr)]
 
-    def _observation(self, truth: RobotTruth) -> dict[str, np.ndarray]:
+    def _observation(self, truth: RobotTruth, odometry: np.ndarray) -> dict[str, np.ndarray]:
         episode = self._require_episode()
         return make_observation(
             episode.frame.scan.ranges,
             self.sim.lidar.range_max,
             truth,
-            self._odometry.update(self._wheel_angles()),
+            odometry,
             episode.effective_target,
             self.observation_space,
         )
 
+    def _scenario(self, house: HouseKey, spawn: int, seed: int) -> Scenario:
+        """The episode described as a scenario, for sinks that want one at the start."""
+        limit = self.spec.max_episode_steps if self.spec is not None else None
+        return Scenario(
+            name=self.spec.id if self.spec is not None else type(self).__name__,
+            duration_s=limit * self.control_period_s if limit else 0.0,
+            house=HouseChoice(name=house, spawn=spawn)
+            if isinstance(house, str)
+            else HouseChoice(name=None, seed=house, spawn=spawn),
+            robot=self.robot_config,
+            lidar=self.lidar_config,
+            controller=self.controller_config,
+            simulation=SimulationConfig(fall_pitch_deg=self.fall_pitch_deg),
+            description="an episode of the Gymnasium environment",
+            seed=seed,
+        )
+
     def _info(self, truth: RobotTruth) -> dict[str, Any]:
-        episode = self._require_episode()
-        frame: Frame = episode.frame
-        info: dict[str, Any] = {
-            "time_s": self.sim.time_s,
-            "house": self.sim.house.name,
-            "pose_world": np.array([*truth.position_base_in_world[:2], truth.yaw_rad]),
-            "pitch_rad": truth.pitch_rad,
-            "roll_rad": truth.roll_rad,
-            "pitch_rate_rad_s": truth.pitch_rate_rad_s,
-            "forward_velocity_mps": truth.forward_velocity_mps,
-            "yaw_rate_rad_s": truth.yaw_rate_rad_s,
-            "labels": frame.labels.copy(),
-            "scan_ranges_m": frame.scan.ranges.copy(),
-            "scan_stamp_s": frame.stamp_s,
-            "shove_active": episode.shove_end_step is not None,
-            "hard_stop_active": episode.hard_stop_active,
-            "fall_reason": episode.fall_reason,
-        }
-        if self.scan_filter is not None:
-            info["filter_removed"] = np.array(episode.filter_result.removed, dtype=bool)
-        return info
+        return step_info(self._require_episode(), truth, self.sim, self.scan_filter is not None)
 
     def _close_renderer(self) -> None:
         if self._renderer is not None:
