@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from scipy.signal import correlate
 from scipy.spatial import cKDTree
 
-from scaneval.geometry import transform_points
+from scaneval.geometry import compose, transform_points
 from scaneval.match_result import MatchResult, finite_points, result
 
 MIN_DIRECTION_SPREAD = math.radians(30.0)  # rad, translation directions this far apart
@@ -102,6 +102,7 @@ def translation(
 def hsm(
     source_xy: ArrayLike,
     target_xy: ArrayLike,
+    initial_pose: ArrayLike = (0.0, 0.0, 0.0),
     angle_resolution_rad: float = math.radians(0.5),
     rho_resolution_m: float = 0.02,
     max_translation_m: float = 1.0,
@@ -113,11 +114,14 @@ def hsm(
     """Hough Scan Matcher: rotation from Hough spectra, translation from projections.
 
     A global matcher: it needs no initial guess, and searches every rotation and
-    translations up to ``max_translation_m`` along each direction.
+    translations up to ``max_translation_m`` along each direction (from the initial
+    pose, when one is given).
 
     Args:
         source_xy: points to align, m, shape ``(n, 2)``.
         target_xy: reference points, m, shape ``(m, 2)``.
+        initial_pose: ``(x, y, theta)`` applied to the source first, m, m, rad; the
+            search is for the pose that remains.
         angle_resolution_rad: bin width of the Hough directions, rad.
         rho_resolution_m: bin width of the projections, m.
         max_translation_m: largest projected translation searched, m.
@@ -133,10 +137,12 @@ def hsm(
         ``converged`` is False when no hypothesis gave a translation (fewer than two
         distinct directions with votes in common).
     """
-    source, target = finite_points(source_xy), finite_points(target_xy)
+    initial_pose = np.asarray(initial_pose, dtype=np.float64)
+    original, target = finite_points(source_xy), finite_points(target_xy)
+    source = transform_points(original, initial_pose)
     tree = cKDTree(target)
     if len(source) < 2 or len(target) < 2:
-        return result(np.zeros(3), source, tree, 0, False, max_correspondence_m)
+        return result(initial_pose, original, tree, 0, False, max_correspondence_m)
     count = round(math.pi / angle_resolution_rad)
     resolution = math.pi / count
     directions = resolution * np.arange(count)
@@ -166,4 +172,5 @@ def hsm(
             inliers = int(np.isfinite(distance).sum())
             if inliers > best_inliers:
                 best, best_inliers = pose, inliers
-    return result(best, source, tree, tried, tried > 0, max_correspondence_m)
+    pose = compose(best, initial_pose)
+    return result(pose, original, tree, tried, tried > 0, max_correspondence_m)

@@ -85,8 +85,8 @@ def test_hsm_recovers_large_rotation_without_initial_guess():
     assert rotation_error < math.radians(0.5)
 
 
-@pytest.mark.parametrize("name", ["icp", "ndt"])
-def test_local_matcher_starts_from_initial_pose(name):
+@pytest.mark.parametrize("name", sorted(MATCHERS))
+def test_matcher_starts_from_initial_pose(name):
     room = cluttered_room()
     truth = np.array([0.6, -0.4, math.radians(100.0)])
     target = scan_points(scan_from_pose(room, (0.0, 0.0, 0.0), rng=np.random.default_rng(5)))
