@@ -33,7 +33,7 @@ from twsb_sim.envs.observation import WheelOdometry, make_observation, observati
 from twsb_sim.envs.options import Range, coerce, make_scan_filter, value_range
 from twsb_sim.envs.render import TrackingRenderer
 from twsb_sim.envs.reward import RewardConfig, reward_terms
-from twsb_sim.frame import RobotTruth
+from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House
 from twsb_sim.lidar import LidarConfig
 from twsb_sim.robot import RobotConfig, load_robot_spec
@@ -287,6 +287,12 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self._episode is not None:
             self.sink.close(self._summary)
             self._episode = None
+
+    @property
+    def latest_frame(self) -> Frame | None:
+        """The latest scan with all its ground truth (hit points, sensor pose, ...), as the
+        sink received it; None before the first reset."""
+        return self._episode.frame if self._episode is not None else None
 
     # -- the loop's parts -----------------------------------------------------------------
 

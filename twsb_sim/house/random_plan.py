@@ -17,6 +17,7 @@ generator, so a seed always gives the same house.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -242,8 +243,12 @@ def _furnish(rng: np.random.Generator, rooms: list[Room], doors: list[Doorway]) 
     return furnisher.pieces
 
 
+@functools.lru_cache(maxsize=16)
 def random_house(seed: int) -> House:
     """A random house drawn from ``seed``; the same seed always gives the same house.
+
+    The last few houses are kept (a House is immutable): asking again for the same seed,
+    e.g. to plan a run and then to run it, costs nothing.
 
     Args:
         seed: any non-negative integer.

@@ -74,6 +74,9 @@ def test_hard_stop_overrides_the_command_and_pitches_the_robot() -> None:
         pitch_variation_beams += int(is_pitch_variation(info["labels"]).sum())
     assert stops > 0
     assert pitch_variation_beams > 0
+    frame = env.unwrapped.latest_frame
+    np.testing.assert_array_equal(frame.labels, info["labels"])
+    assert frame.hit_points_world.shape == (720, 3)
 
 
 def test_shoves_push_the_robot_and_it_recovers() -> None:

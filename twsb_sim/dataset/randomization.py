@@ -1,0 +1,250 @@
+"""What ``twsb generate`` randomizes per episode, and within which ranges.
+
+Every range is ``[low, high]`` (a draw is uniform in it, log-uniform for
+``robot.aggressiveness``); a single number fixes the value. A TOML file overrides any of
+them (``twsb generate --ranges my_ranges.toml``; ``twsb generate --show-ranges`` prints
+the defaults in that form):
+
+.. code-block:: toml
+
+    [episode]
+    duration_s = [10.0, 20.0]
+    [shoves]
+    probability = 0.6
+    [robot]
+    lidar_height_m = 0.30        # fixed
+
+Mistakes raise :class:`~twsb_sim.config_errors.ConfigError` naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from twsb_sim.config_errors import ConfigError, apply_overrides
+from twsb_sim.scenario import MAX_VELOCITY_MPS, MAX_YAW_RATE_RAD_S
+
+Range = tuple[float, float]
+
+
+def _normalize(config: Any) -> None:
+    """Turn every scalar given for a range into ``(value, value)`` and check the order."""
+    for f in dataclasses.fields(config):
+        value = getattr(config, f.name)
+        if "Range" not in str(f.type):
+            continue
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            value = (float(value), float(value))
+            object.__setattr__(config, f.name, value)
+        low, high = value
+        if not low <= high:
+            raise ValueError(f"{f.name}: expected [low, high] with low <= high, got {list(value)}")
+
+
+def _within(name: str, value: Range | float, low: float, high: float) -> None:
+    values = value if isinstance(value, tuple) else (value,)
+    if not all(low <= v <= high for v in values):
+        raise ValueError(f"{name}: expected values in [{low:g}, {high:g}], got {value}")
+
+
+@dataclass(frozen=True)
+class EpisodeRanges:
+    """Length of an episode."""
+
+    duration_s: Range | float = (20.0, 40.0)  # s of simulated time (10 scans per s)
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        _within("duration_s", self.duration_s, 1.0, 3600.0)
+
+
+@dataclass(frozen=True)
+class HouseRanges:
+    """Where an episode happens."""
+
+    named_fraction: float = 0.0  # probability of a named layout (house1, house2), else random
+    reversed_start_probability: float = 0.5  # start facing the other way along the lane
+
+    def __post_init__(self) -> None:
+        _within("named_fraction", self.named_fraction, 0.0, 1.0)
+        _within("reversed_start_probability", self.reversed_start_probability, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class MotionRanges:
+    """The command profile: drives, stops, reversals, turns in place, pauses.
+
+    An episode is a chain of maneuvers planned along the free lane of its start pose,
+    so the robot stays ``lane_margin_m`` away from what ends the lane.
+    """
+
+    cruise_velocity_mps: Range | float = (0.2, 1.0)  # m/s, forward drives
+    reverse_velocity_mps: Range | float = (0.2, 0.6)  # m/s, backward drives (magnitude)
+    acceleration_mps2: Range | float = (0.5, 3.0)  # m/s², speed-up ramps
+    braking_mps2: Range | float = (0.5, 3.0)  # m/s², ramped stops and reversals
+    hard_stop_probability: float = 0.5  # a stop or reversal is a step, not a ramp
+    reversal_probability: float = 0.25  # a drive reverses straight into the other way
+    backward_probability: float = 0.3  # a drive goes backward (when there is room both ways)
+    turn_probability: float = 0.3  # a maneuver is a turn in place
+    turnabout_probability: float = 0.3  # a turn is a 180 deg turnabout (no turn back)
+    pause_probability: float = 0.15  # a maneuver is a pause
+    turn_rate_rad_s: Range | float = (0.2, 0.6)  # rad/s
+    turn_angle_deg: Range | float = (20.0, 120.0)  # deg, turned and then turned back
+    pause_s: Range | float = (0.3, 2.0)  # s, standing still between maneuvers
+    lane_margin_m: float = 0.6  # m, kept free at both ends of the lane (stop overshoot, shoves)
+    min_drive_m: float = 0.4  # m, shortest drive
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        for name in ("cruise_velocity_mps", "reverse_velocity_mps"):
+            _within(name, getattr(self, name), 0.05, MAX_VELOCITY_MPS)
+        for name in ("acceleration_mps2", "braking_mps2"):
+            _within(name, getattr(self, name), 0.05, 50.0)
+        for name in (
+            "hard_stop_probability",
+            "reversal_probability",
+            "backward_probability",
+            "turn_probability",
+            "turnabout_probability",
+            "pause_probability",
+        ):
+            _within(name, getattr(self, name), 0.0, 1.0)
+        if self.turn_probability + self.pause_probability > 1.0:
+            raise ValueError(
+                "turn_probability: turn_probability + pause_probability must be <= 1, got "
+                f"{self.turn_probability + self.pause_probability:g}"
+            )
+        _within("turn_rate_rad_s", self.turn_rate_rad_s, 0.05, MAX_YAW_RATE_RAD_S)
+        _within("turn_angle_deg", self.turn_angle_deg, 1.0, 360.0)
+        _within("pause_s", self.pause_s, 0.05, 60.0)
+        _within("lane_margin_m", self.lane_margin_m, 0.0, 5.0)
+        _within("min_drive_m", self.min_drive_m, 0.05, 20.0)
+
+
+@dataclass(frozen=True)
+class ShoveRanges:
+    """Pushes on the robot's body: from behind or the front, or (fewer) from a side.
+
+    How hard a push tips the robot depends on its angular impulse about the axle
+    (force x duration x height): about 9 deg of pitch per N·m·s, and a fall from about
+    5 N·m·s; sideways, it tips over from about 2.5 N·m·s. Forces are cut to the caps.
+    """
+
+    probability: float = 0.35  # a pause or a drive carries a shove
+    sideways_fraction: float = 0.2  # of the shoves, those that push from a side
+    longitudinal_force_n: Range | float = (15.0, 70.0)  # N, from behind or from the front
+    lateral_force_n: Range | float = (5.0, 25.0)  # N, from the left or the right
+    duration_s: Range | float = (0.08, 0.25)  # s
+    height_m: Range | float = (0.25, 0.45)  # m above the axle where the force acts
+    max_angular_impulse_n_m_s: float = 3.2  # N·m·s, cap of a push from behind or the front
+    max_sideways_angular_impulse_n_m_s: float = 1.5  # N·m·s, cap of a push from a side
+    displacement_m_per_n_s: float = 0.12  # m per N·s a push moves the robot (for planning)
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        _within("probability", self.probability, 0.0, 1.0)
+        _within("sideways_fraction", self.sideways_fraction, 0.0, 1.0)
+        _within("longitudinal_force_n", self.longitudinal_force_n, 0.0, 500.0)
+        _within("lateral_force_n", self.lateral_force_n, 0.0, 500.0)
+        _within("duration_s", self.duration_s, 0.01, 5.0)
+        _within("height_m", self.height_m, 0.01, 1.0)
+        _within("max_angular_impulse_n_m_s", self.max_angular_impulse_n_m_s, 0.0, 100.0)
+        _within(
+            "max_sideways_angular_impulse_n_m_s",
+            self.max_sideways_angular_impulse_n_m_s,
+            0.0,
+            100.0,
+        )
+        _within("displacement_m_per_n_s", self.displacement_m_per_n_s, 0.0, 1.0)
+
+
+@dataclass(frozen=True)
+class RobotRanges:
+    """The robot, its LiDAR, its controller and the floor."""
+
+    lidar_height_m: Range | float = (0.2, 0.35)  # m, scanner above the floor
+    body_mass_kg: Range | float = (4.5, 7.0)  # kg
+    com_height_offset_m: Range | float = (-0.03, 0.05)  # m, centre of mass shift along body z
+    floor_friction: Range | float = (0.6, 1.2)  # tyre-floor sliding friction coefficient
+    range_noise_std_m: Range | float = (0.0, 0.03)  # m, LiDAR range noise
+    aggressiveness: Range | float = (0.5, 2.0)  # LQR weight scale, drawn log-uniform
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        _within("lidar_height_m", self.lidar_height_m, 0.15, 1.0)
+        _within("body_mass_kg", self.body_mass_kg, 0.5, 50.0)
+        _within("com_height_offset_m", self.com_height_offset_m, -0.2, 0.3)
+        _within("floor_friction", self.floor_friction, 0.05, 3.0)
+        _within("range_noise_std_m", self.range_noise_std_m, 0.0, 1.0)
+        _within("aggressiveness", self.aggressiveness, 0.01, 100.0)
+
+
+@dataclass(frozen=True)
+class Randomization:
+    """All the ranges, one table each in a ranges file."""
+
+    episode: EpisodeRanges = field(default_factory=EpisodeRanges)
+    house: HouseRanges = field(default_factory=HouseRanges)
+    motion: MotionRanges = field(default_factory=MotionRanges)
+    shoves: ShoveRanges = field(default_factory=ShoveRanges)
+    robot: RobotRanges = field(default_factory=RobotRanges)
+
+    def to_dict(self) -> dict[str, dict[str, Any]]:
+        """Plain values (ranges as lists), the form of a ranges file and of the metadata."""
+        return {
+            f.name: {
+                k: list(v) if isinstance(v, tuple) else v
+                for k, v in dataclasses.asdict(getattr(self, f.name)).items()
+            }
+            for f in dataclasses.fields(self)
+        }
+
+    def to_toml(self) -> str:
+        """The ranges as a TOML file that :func:`randomization_from_table` reads back."""
+        lines = []
+        for table, values in self.to_dict().items():
+            lines.append(f"[{table}]")
+            for key, value in values.items():
+                text = f"[{value[0]!r}, {value[1]!r}]" if isinstance(value, list) else repr(value)
+                lines.append(f"{key} = {text}")
+            lines.append("")
+        return "\n".join(lines)
+
+
+def randomization_from_table(
+    table: dict[str, Any], source: str | Path = "<table>"
+) -> Randomization:
+    """Apply a parsed ranges table on top of the defaults.
+
+    Raises:
+        ConfigError: an unknown table or key, or a value out of its bounds.
+    """
+    defaults = Randomization()
+    known = {f.name for f in dataclasses.fields(defaults)}
+    for key in table:
+        if key not in known:
+            raise ConfigError(source, key, f"unknown table (known: {', '.join(sorted(known))})")
+    return Randomization(
+        **{
+            name: apply_overrides(getattr(defaults, name), table.get(name, {}), source, name)
+            for name in known
+        }
+    )
+
+
+def load_randomization(path: str | Path | None) -> Randomization:
+    """The default ranges, overridden by the TOML file at ``path`` when given."""
+    if path is None:
+        return Randomization()
+    path = Path(path)
+    try:
+        table = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ConfigError(path, "", "no such ranges file") from None
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(path, "", f"not valid TOML: {error}") from None
+    return randomization_from_table(table, source=path)
