@@ -14,7 +14,7 @@ rr = pytest.importorskip("rerun")
 rerun_log = pytest.importorskip("twsb_sim.rerun_log")
 
 
-def test_rerun_logger_records_frames_states_and_filter_from_the_env(tmp_path: Path) -> None:
+def test_rerun_logger_records_episodes_with_states_filter_and_shoves(tmp_path: Path) -> None:
     from rerun.chunk import RrdReader
 
     path = tmp_path / "episode.rrd"
@@ -26,11 +26,12 @@ def test_rerun_logger_records_frames_states_and_filter_from_the_env(tmp_path: Pa
         sink=logger,
         scan_filter=True,
         target_velocity_mps=0.8,
-        disturbances=Disturbances(hard_stop_rate_hz=1.0),
+        disturbances=Disturbances(shove_rate_hz=1.0, hard_stop_rate_hz=1.0),
     )
-    env.reset(seed=0)
-    for _ in range(20):
-        env.step(np.array([0.8, 0.0], dtype=np.float32))
+    for seed in (0, 1):  # two episodes, one after the other in the recording
+        env.reset(seed=seed)
+        for _ in range(20):
+            env.step(np.array([0.8, 0.0], dtype=np.float32))
     env.close()
     rec.disconnect()  # finishes the file (its footer)
     entities = {str(chunk.entity_path) for chunk in RrdReader(path).stream().to_chunks()}
