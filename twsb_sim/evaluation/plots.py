@@ -78,12 +78,13 @@ def plot_timing(results: dict, path: Path) -> None:
     left.grid(alpha=0.3, which="both")
     left.legend(fontsize=7.5)
     rates = [timing["methods"][n]["rate_hz"] for n in names]
-    bars = right.bar(range(len(names)), rates, color=colours)
-    right.bar_label(bars, fmt="%.0f", fontsize=7.5)
-    right.set_xticks(range(len(names)), [n.replace(" (", "\n(") for n in names], fontsize=7)
-    right.set_ylabel("frames per second (all runs)")
-    right.set_yscale("log")
-    right.grid(alpha=0.3, axis="y")
+    rows = np.arange(len(names))[::-1]
+    bars = right.barh(rows, rates, color=colours)
+    right.bar_label(bars, fmt="%.0f Hz", fontsize=7.5, padding=2)
+    right.set_yticks(rows, [n.replace(" (", "\n(") for n in names], fontsize=7.5)
+    right.set_xlabel("frames per second (all runs)")
+    right.set_xlim(right=max(rates) * 1.35)  # room for the labels
+    right.grid(alpha=0.3, axis="x")
     _save(fig, path)
 
 
@@ -101,10 +102,11 @@ def plot_chamfer(results: dict, path: Path) -> None:
             ax.bar_label(bars, fmt="%.2f", fontsize=7)
         ax.set_xticks(x, [m.upper() for m in matchers])
         ax.set_ylabel("normalized mean Chamfer distance")
-        what = "first frame of the pitch variation" if kind == "onset" else "frame with most"
+        ax.set_ylim(0, 1.25 * max(ax.get_ylim()[1], 1.0))  # room for the legend
+        what = "first frame of each pitch variation" if kind == "onset" else "its peak frame"
         ax.set_title(f"{kind}: {what} ({matching['events']} events)", fontsize=9)
         ax.grid(alpha=0.3, axis="y")
-        ax.legend(fontsize=7.5)
+        ax.legend(fontsize=7.5, ncols=3, loc="upper center")
     _save(fig, path)
 
 
@@ -125,7 +127,8 @@ def plot_pose_errors(results: dict, path: Path) -> None:
                 ax.bar_label(bars, fmt="%.2f", fontsize=6.5)
             ax.set_xticks(x, [m.upper() for m in matchers])
             ax.set_ylabel(label)
+            ax.set_ylim(0, 1.3 * ax.get_ylim()[1])  # room for the legend
             ax.set_title(f"{kind} frames", fontsize=9)
             ax.grid(alpha=0.3, axis="y")
-    axes[0, 0].legend(fontsize=7.5)
+    axes[0, 0].legend(fontsize=7.5, ncols=3, loc="upper center")
     _save(fig, path)

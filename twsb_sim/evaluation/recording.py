@@ -11,7 +11,6 @@ import dataclasses
 
 import mujoco
 
-from twsb_sim.cli import resolve_scenario
 from twsb_sim.frame import Frame
 from twsb_sim.house import House
 from twsb_sim.runner import build_house, run_scenario
@@ -80,6 +79,8 @@ def sequence_in_house(
         duration_s: keep only this many simulated seconds (commands and shoves that end
             later are dropped); None keeps the whole sequence.
     """
+    from twsb_sim.cli import resolve_scenario  # the command line imports this package
+
     scenario = load_scenario(resolve_scenario(sequence))
     choice = HouseChoice(name=house_name, seed=house_seed)
     house = build_house(choice)
