@@ -14,7 +14,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
+from twsb_sim.rerun_log.recording import add_recording_args
 
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
@@ -49,11 +51,13 @@ def _add_run_parser(commands: argparse._SubParsersAction) -> None:
     )
     run.add_argument("--no-filter", action="store_true", help="do not run the filter in the loop")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_recording_args(run)  # --rrd, --spawn and Rerun's own flags
     run.set_defaults(handler=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
     from twsb_sim.frame_writer import FrameWriter
+    from twsb_sim.rerun_log.recording import rerun_sink, wait_while_serving
     from twsb_sim.runner import run_scenario
     from twsb_sim.scenario import load_scenario
 
@@ -69,12 +73,19 @@ def _run(args: argparse.Namespace) -> int:
         from pvfilter import PitchVariationFilter
 
         scan_filter = PitchVariationFilter()
+    p_th = scan_filter.params.p_th if scan_filter is not None else float("nan")
+    sinks.append(rerun_sink(args, p_th=p_th))  # a NullSink when no recording is asked for
     summary = run_scenario(
         scenario, seed=args.seed, scan_filter=scan_filter, sinks=sinks, progress=not args.quiet
     )
-    print(summary.format())
+    report = sys.stderr if args.stdout else sys.stdout  # --stdout carries the recording
+    print(summary.format(), file=report)
     if args.out is not None:
-        print(f"frames written to {args.out}/frames.npz")
+        print(f"frames written to {args.out}/frames.npz", file=report)
+    if args.rrd is not None:
+        print(f"recording written to {args.rrd} (open it with: rerun {args.rrd})", file=report)
+    if args.serve:
+        wait_while_serving()
     return EXIT_FELL if summary.fell else 0
 
 
@@ -87,6 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_run_parser(commands)
     add_eval_parser(commands)
+    add_dataset_commands(commands)  # generate, export-bag
     return parser
 
 

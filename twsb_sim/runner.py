@@ -127,8 +127,16 @@ def _simulate(
     shove_starts = {to_step(s.t_s): s for s in scenario.shoves}
     shove_ends = {to_step(s.end_s) for s in scenario.shoves}
     phase_starts = {to_step(p.t_s) for p in scenario.commands}
+    for sink in sinks:  # optional hook: the sink sees the house, the model and the timeline
+        if hasattr(sink, "on_start"):
+            sink.on_start(scenario, sim)
+    # optional hook: sinks with a ``state_rate_hz`` get the robot's truth at that rate too;
+    # with none, no breakpoint is added, so the physics loop pays nothing
+    state_every = _state_intervals(sinks, dt)
+    state_steps = {k for _, every in state_every for k in range(0, n_steps + 1, every)}
     breakpoints = sorted(
         {*range(0, n_steps + 1, frame_every), *shove_starts, *shove_ends, *phase_starts, n_steps}
+        | state_steps
     )
     events = lambda text: [sink.on_event(sim.time_s, text) for sink in sinks]  # noqa: E731
     frame_index = 0
@@ -153,6 +161,11 @@ def _simulate(
             summary.fell, summary.end_reason = True, reason
             events(reason)
             return
+        if k in state_steps:
+            truth = sim.truth()
+            for sink, every in state_every:
+                if k % every == 0:
+                    sink.on_state(truth)
         if k % frame_every == 0:
             frame = sim.frame(frame_index, phase=phase_at(scenario.commands, k * dt))
             result = scan_filter.process(frame.scan) if scan_filter is not None else None
@@ -163,3 +176,9 @@ def _simulate(
             bar.update()
         if k_next is not None:
             sim.run_commands(commands.velocity_mps[k:k_next], commands.yaw_rate_rad_s[k:k_next])
+
+
+def _state_intervals(sinks: Sequence[FrameSink], dt_s: float) -> list[tuple[Any, int]]:
+    """Each sink that asks for ``on_state`` calls, with the physics steps between two calls."""
+    rates = [(sink, getattr(sink, "state_rate_hz", None)) for sink in sinks]
+    return [(sink, max(1, round(1.0 / (hz * dt_s)))) for sink, hz in rates if hz]

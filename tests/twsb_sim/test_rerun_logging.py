@@ -1,0 +1,250 @@
+"""Rerun recordings of runs, read back: entities, scans, labels, decisions, CLI flags."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rerun as rr
+from rerun.chunk import RrdReader
+
+from pvfilter import PitchVariationFilter
+from twsb_sim.cli import EXIT_USAGE, main
+from twsb_sim.labels import BeamLabel, is_pitch_variation
+from twsb_sim.rerun_log import (
+    APPLICATION_ID,
+    BeamDecision,
+    RerunLogger,
+    beam_decisions,
+    paths,
+    rerun_sink,
+)
+from twsb_sim.runner import run_scenario
+from twsb_sim.scenario import load_scenario
+from twsb_sim.sinks import NullSink
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+# no usage data from tests: Rerun's tools send none when CI is set (checked in its source)
+OFFLINE = {**os.environ, "CI": "1"}
+
+
+class Collect(NullSink):
+    """Keeps the frames and the filter's results, to compare with what was recorded."""
+
+    def __init__(self) -> None:
+        self.frames, self.results = [], []
+
+    def on_frame(self, frame, filter_result):
+        self.frames.append(frame)
+        self.results.append(filter_result)
+
+
+def shortened(name: str, duration_s: float):
+    """A shipped scenario cut to ``duration_s`` (what starts later is dropped)."""
+    scenario = load_scenario(SCENARIOS / f"{name}.toml")
+    return dataclasses.replace(
+        scenario,
+        duration_s=duration_s,
+        commands=tuple(c for c in scenario.commands if c.t_s <= duration_s),
+        shoves=tuple(s for s in scenario.shoves if s.end_s <= duration_s),
+    )
+
+
+def record(path: Path, scenario, **logger_options) -> Collect:
+    """Run ``scenario`` with the filter, a RerunLogger writing ``path`` and a collector."""
+    rec = rr.RecordingStream(APPLICATION_ID)
+    rec.save(path)
+    collect = Collect()
+    logger = RerunLogger(rec, p_th=0.8, close_recording=True, **logger_options)
+    run_scenario(scenario, seed=0, scan_filter=PitchVariationFilter(), sinks=[logger, collect])
+    return collect
+
+
+def entity_rows(path: Path, entity: str, component: str) -> dict[int, list]:
+    """Per frame index, the value of one component of one entity (time-indexed rows)."""
+    rows = {}
+    for chunk in RrdReader(path).stream().to_chunks():
+        if chunk.entity_path != "/" + entity or chunk.is_static:
+            continue
+        batch = chunk.to_record_batch()
+        if "frame" not in batch.schema.names or component not in batch.schema.names:
+            continue
+        for frame, value in zip(
+            batch.column("frame").to_pylist(), batch.column(component).to_pylist(), strict=True
+        ):
+            rows[frame] = value
+    return rows
+
+
+@pytest.fixture(scope="module")
+def hard_stop_recording(tmp_path_factory):
+    """3.2 s of the hard-stop scenario: floor hits while accelerating, a few removals."""
+    scenario = shortened("hard_stop", 3.2)
+    path = tmp_path_factory.mktemp("rerun") / "hard_stop.rrd"
+    collect = record(path, scenario, flush_every=7)  # batches that do not divide the run
+    return path, collect
+
+
+def test_recording_holds_the_expected_entity_paths(hard_stop_recording):
+    path, _ = hard_stop_recording
+    entities = {str(chunk.entity_path) for chunk in RrdReader(path).stream().to_chunks()}
+    expected = [
+        paths.HOUSE_FLOOR, paths.HOUSE_WALLS, f"{paths.HOUSE_FURNITURE}/boxes",
+        f"{paths.ROBOT_BODY}/boxes", paths.ROBOT, paths.ROBOT_LIDAR, paths.TRAJECTORY,
+        paths.LIDAR_HITS, paths.SENSOR_FRAME, paths.SENSOR_LABELS, paths.SENSOR_DECISION,
+        paths.SENSOR_REMOVED, paths.SENSOR_CLUSTERS, paths.SENSOR_CLUSTER_BOXES,
+        paths.SENSOR_CLUSTER_IDS, paths.PLOT_PITCH, paths.PLOT_WHEEL_TORQUE, paths.PLOT_BEAMS,
+        paths.PLOT_PRECISION_RECALL, paths.PLOT_P_PV, paths.EVENTS,
+    ]  # fmt: skip
+    assert not [e for e in expected if "/" + e not in entities]
+    assert RrdReader(path).blueprints, "the default blueprint travels with the file"
+
+
+def test_one_scan_per_frame_with_one_point_per_valid_beam(hard_stop_recording):
+    path, collect = hard_stop_recording
+    scans = entity_rows(path, paths.SENSOR_LABELS, "Points2D:positions")
+    hits = entity_rows(path, paths.LIDAR_HITS, "Points3D:positions")
+    assert sorted(scans) == sorted(hits) == [f.index for f in collect.frames]
+    for frame in collect.frames:
+        valid = frame.scan.valid_mask()
+        assert len(scans[frame.index]) == np.count_nonzero(valid)
+        np.testing.assert_allclose(scans[frame.index], frame.scan.points()[valid], atol=1e-5)
+        assert len(hits[frame.index]) == np.count_nonzero(np.isfinite(frame.hit_points_world[:, 0]))
+
+
+def test_label_class_ids_are_the_simulators_labels(hard_stop_recording):
+    path, collect = hard_stop_recording
+    sensor = entity_rows(path, paths.SENSOR_LABELS, "Points2D:class_ids")
+    world = entity_rows(path, paths.LIDAR_HITS, "Points3D:class_ids")
+    floor_seen = False
+    for frame in collect.frames:
+        valid = frame.scan.valid_mask()
+        hit = np.isfinite(frame.hit_points_world[:, 0])
+        np.testing.assert_array_equal(sensor[frame.index], frame.labels[valid])
+        np.testing.assert_array_equal(world[frame.index], frame.labels[hit])
+        floor_seen |= BeamLabel.FLOOR in world[frame.index]
+    assert floor_seen, "the run should hold pitch-variation hits"
+
+
+def test_filter_decisions_are_the_mask_the_filter_returned(hard_stop_recording):
+    path, collect = hard_stop_recording
+    decisions = entity_rows(path, paths.SENSOR_DECISION, "Points2D:class_ids")
+    removed_points = entity_rows(path, paths.SENSOR_REMOVED, "Points2D:positions")
+    removed_any = False
+    for frame, result in zip(collect.frames, collect.results, strict=True):
+        valid = frame.scan.valid_mask()
+        recorded = np.array(decisions[frame.index])
+        removed = np.isin(recorded, [BeamDecision.TRUE_POSITIVE, BeamDecision.FALSE_POSITIVE])
+        np.testing.assert_array_equal(removed, result.removed[valid])
+        positive = np.isin(recorded, [BeamDecision.TRUE_POSITIVE, BeamDecision.FALSE_NEGATIVE])
+        np.testing.assert_array_equal(positive, is_pitch_variation(frame.labels[valid]))
+        assert len(removed_points[frame.index]) == np.count_nonzero(result.removed)
+        removed_any |= bool(result.removed.any())
+    assert removed_any, "the run should hold frames where the filter removed beams"
+
+
+def test_clusters_have_one_box_and_one_id_each(hard_stop_recording):
+    path, collect = hard_stop_recording
+    boxes = entity_rows(path, paths.SENSOR_CLUSTER_BOXES, "Boxes2D:half_sizes")
+    ids = entity_rows(path, paths.SENSOR_CLUSTER_IDS, "Points2D:labels")
+    for frame, result in zip(collect.frames, collect.results, strict=True):
+        assert len(boxes[frame.index]) == len(ids[frame.index]) == len(result.clusters)
+        for k, (label, record) in enumerate(zip(ids[frame.index], result.clusters, strict=True)):
+            assert label.startswith(f"#{k}")
+            assert ("detected" in label) == record.detected
+
+
+def test_robot_state_is_sampled_between_frames(hard_stop_recording):
+    path, collect = hard_stop_recording
+    sim_time_rows = 0
+    for chunk in RrdReader(path).stream().to_chunks():
+        if chunk.entity_path == "/" + paths.PLOT_PITCH and not chunk.is_static:
+            sim_time_rows += chunk.num_rows
+    frame_rows = entity_rows(path, paths.PLOT_PITCH, "Scalars:scalars")
+    assert len(frame_rows) == len(collect.frames)
+    assert sim_time_rows == 160 + 1  # 50 Hz over 3.2 s, both ends included
+    for frame in collect.frames:
+        assert frame_rows[frame.index] == pytest.approx([np.degrees(frame.truth.pitch_rad)])
+
+
+def test_rerun_rrd_verify_accepts_the_file(hard_stop_recording):
+    path, _ = hard_stop_recording
+    result = subprocess.run(
+        ["rerun", "rrd", "verify", str(path)], env=OFFLINE, capture_output=True, text=True
+    )
+    assert result.returncode == 0, result.stderr
+
+
+def test_a_recording_does_not_change_the_run(hard_stop_recording):
+    _, recorded = hard_stop_recording
+    plain = Collect()
+    run_scenario(
+        shortened("hard_stop", 3.2), seed=0, scan_filter=PitchVariationFilter(), sinks=[plain]
+    )
+    for a, b in zip(plain.frames, recorded.frames, strict=True):
+        np.testing.assert_array_equal(a.scan.ranges, b.scan.ranges)
+        assert a.truth.pitch_rad == b.truth.pitch_rad
+
+
+def test_shove_shows_as_an_arrow_while_it_acts(tmp_path):
+    scenario = shortened("shove", 2.5)
+    (shove,) = scenario.shoves
+    path = tmp_path / "shove.rrd"
+    record(path, scenario, state_rate_hz=None)
+    arrows = entity_rows(path, paths.SHOVES, "Arrows3D:vectors")
+    assert list(arrows) == [round(shove.t_s * 10)]  # at the frame the shove starts
+    (vector,) = arrows[round(shove.t_s * 10)]
+    assert np.linalg.norm(vector) == pytest.approx(np.linalg.norm(shove.force_n) * 0.01, rel=1e-5)
+    cleared = entity_rows(path, paths.SHOVES, "Clear:is_recursive")
+    assert list(cleared) == [math.ceil(shove.end_s * 10)]  # the first frame after it ends
+    events = entity_rows(path, paths.EVENTS, "TextLog:text")
+    assert events[round(shove.t_s * 10)][0].startswith("shove")
+
+
+def test_beam_decisions_are_the_four_classes():
+    labels = np.array([BeamLabel.STATIC, BeamLabel.FLOOR, BeamLabel.STATIC, BeamLabel.CEILING])
+    removed = np.array([False, True, True, False])
+    assert list(beam_decisions(labels, removed)) == [
+        BeamDecision.TRUE_NEGATIVE,
+        BeamDecision.TRUE_POSITIVE,
+        BeamDecision.FALSE_POSITIVE,
+        BeamDecision.FALSE_NEGATIVE,
+    ]
+
+
+@pytest.fixture
+def short_scenario(tmp_path) -> Path:
+    path = tmp_path / "short.toml"
+    path.write_text(
+        'name = "short"\nduration_s = 1.0\n\n[house]\nname = "house1"\n\n'
+        "[[commands]]\nt_s = 0.0\nvelocity_mps = 0.5\nramp_s = 0.5\n"
+    )
+    return path
+
+
+def test_twsb_run_rrd_writes_a_recording(short_scenario, tmp_path, monkeypatch):
+    monkeypatch.setenv("CI", "1")
+    path = tmp_path / "out.rrd"
+    assert main(["run", str(short_scenario), "--quiet", "--rrd", str(path)]) == 0
+    frames = entity_rows(path, paths.SENSOR_LABELS, "Points2D:positions")
+    assert sorted(frames) == list(range(11))
+
+
+def test_logging_off_writes_no_file_and_the_run_works(short_scenario, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(short_scenario), "--quiet"]) == 0
+    assert not list(tmp_path.rglob("*.rrd"))
+    args = type("Args", (), {"rrd": None, "save": None, "spawn": False, "connect": False,
+                             "url": None, "serve": False, "stdout": False, "headless": False,
+                             "state_rate": 50.0})()  # fmt: skip
+    assert isinstance(rerun_sink(args), NullSink)
+
+
+def test_contradictory_flags_are_a_usage_error(short_scenario, capsys):
+    assert main(["run", str(short_scenario), "--quiet", "--headless", "--spawn"]) == EXIT_USAGE
+    assert "--headless" in capsys.readouterr().err

@@ -1,0 +1,86 @@
+"""Classes and colours: beam labels and filter decisions as annotation contexts.
+
+Points carry class ids, not colours; the annotation context maps each id to a name
+(shown on hover) and a colour, so the recording stays small and the legend is one place.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+import numpy as np
+import rerun as rr
+
+from twsb_sim.labels import LABEL_NAMES, BeamLabel, is_pitch_variation
+
+LABEL_COLORS: dict[BeamLabel, tuple[int, int, int]] = {
+    BeamLabel.NO_RETURN: (90, 90, 90),
+    BeamLabel.STATIC: (150, 170, 190),  # walls and furniture sides: quiet blue-grey
+    BeamLabel.FLOOR: (255, 140, 0),  # the pitch-variation classes stand out
+    BeamLabel.CEILING: (70, 150, 255),
+    BeamLabel.HORIZONTAL: (255, 215, 0),
+    BeamLabel.DYNAMIC: (0, 210, 210),
+    BeamLabel.OCCLUDED: (60, 60, 60),
+}
+
+
+class BeamDecision(IntEnum):
+    """The filter's decision on a beam against ground truth (positive = pitch-variation)."""
+
+    TRUE_NEGATIVE = 0  # kept, and not a pitch-variation point
+    TRUE_POSITIVE = 1  # removed, and a pitch-variation point
+    FALSE_POSITIVE = 2  # removed, but not a pitch-variation point
+    FALSE_NEGATIVE = 3  # kept, but a pitch-variation point
+
+
+DECISION_COLORS: dict[BeamDecision, tuple[int, int, int]] = {
+    BeamDecision.TRUE_NEGATIVE: (120, 130, 140),
+    BeamDecision.TRUE_POSITIVE: (40, 200, 80),
+    BeamDecision.FALSE_POSITIVE: (255, 50, 50),
+    BeamDecision.FALSE_NEGATIVE: (255, 0, 255),
+}
+
+# one colour per cluster id (cycled): distinct hues, none grey
+CLUSTER_PALETTE = np.array(
+    [
+        (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+        (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (255, 187, 120),
+    ],
+    dtype=np.uint8,
+)  # fmt: skip
+DETECTED_COLOR = (255, 50, 50)  # a cluster detected in this scan (Algorithm 1)
+TRACKED_COLOR = (255, 165, 0)  # a queued cluster followed from the last scan (Algorithm 2)
+KEPT_CLUSTER_COLOR = (120, 120, 120)
+
+
+def label_annotation_context() -> rr.AnnotationContext:
+    """Class id = :class:`BeamLabel` code, with its name and colour."""
+    return rr.AnnotationContext(
+        [(int(label), LABEL_NAMES[label], LABEL_COLORS[label]) for label in BeamLabel]
+    )
+
+
+def decision_annotation_context() -> rr.AnnotationContext:
+    """Class id = :class:`BeamDecision`, named "true positive", ... ."""
+    return rr.AnnotationContext(
+        [(int(d), d.name.lower().replace("_", " "), DECISION_COLORS[d]) for d in BeamDecision]
+    )
+
+
+# index: removed + 2 * (decision wrong)
+_DECISION_TABLE = np.array(
+    [
+        BeamDecision.TRUE_NEGATIVE,
+        BeamDecision.TRUE_POSITIVE,
+        BeamDecision.FALSE_NEGATIVE,
+        BeamDecision.FALSE_POSITIVE,
+    ],
+    dtype=np.uint8,
+)
+
+
+def beam_decisions(labels: np.ndarray, removed: np.ndarray) -> np.ndarray:
+    """:class:`BeamDecision` per beam (uint8), from ground-truth labels and the removed mask."""
+    removed = np.asarray(removed, dtype=bool)
+    wrong = is_pitch_variation(labels) != removed
+    return _DECISION_TABLE[removed.astype(np.intp) + 2 * wrong]

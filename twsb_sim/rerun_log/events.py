@@ -1,0 +1,66 @@
+"""Scenario events: phases, shoves and falls as text logs; shoves as arrows in the world.
+
+Events fall between frames: each is logged at its exact ``sim_time`` and, on ``frame``,
+at the first frame that follows it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import rerun as rr
+
+from twsb_sim.rerun_log import paths
+from twsb_sim.rerun_log.timelines import set_time
+
+SHOVE_ARROW_M_PER_N = 0.01  # a 40 N push draws a 0.4 m arrow
+SHOVE_COLOR = (255, 60, 60)
+
+
+def event_level(text: str) -> str:
+    """The text-log level of a run event ("phase: ...", "shove: ...", "fell: ...")."""
+    if text.startswith("fell"):
+        return rr.TextLogLevel.ERROR
+    if text.startswith("shove"):
+        return rr.TextLogLevel.WARN
+    return rr.TextLogLevel.INFO
+
+
+def log_event(rec: rr.RecordingStream, t_s: float, frame_index: int, text: str) -> None:
+    """One line in the ``events`` text log."""
+    set_time(rec, t_s, frame_index)
+    rec.log(paths.EVENTS, rr.TextLog(text, level=event_level(text)))
+
+
+def log_shove(
+    rec: rr.RecordingStream,
+    start: tuple[float, int],
+    end: tuple[float, int],
+    point_world_m: np.ndarray,
+    force_world_n: np.ndarray,
+    label: str,
+) -> None:
+    """An arrow at the pushed point along the force, shown while the shove acts.
+
+    Args:
+        rec: the recording.
+        start: (sim time s, frame index) at which the shove starts.
+        end: (sim time s, frame index) at which it ends; the frame index should be
+            after the start's so that the arrow shows on the ``frame`` timeline too.
+        point_world_m: where the force acts, world frame, m.
+        force_world_n: the force, world frame, N.
+        label: shown on hover.
+    """
+    set_time(rec, *start)
+    rec.log(
+        paths.SHOVES,
+        rr.Arrows3D(
+            origins=[point_world_m - force_world_n * SHOVE_ARROW_M_PER_N],  # the arrow ends at it
+            vectors=[force_world_n * SHOVE_ARROW_M_PER_N],
+            colors=[SHOVE_COLOR],
+            radii=[0.015],
+            labels=[label],
+            show_labels=True,
+        ),
+    )
+    set_time(rec, *end)
+    rec.log(paths.SHOVES, rr.Clear(recursive=False))
