@@ -271,14 +271,13 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         ``"rgb_array"``."""
         if self.render_mode != "rgb_array":
             return None
-        self._require_episode()
+        frame = self._require_episode().frame
         if self._renderer is None or self._renderer.model is not self.sim.model:
-            self._close_renderer()
+            self._close_renderer()  # a new house: a new model to draw
             width, height = self._render_size
             self._renderer = TrackingRenderer(
                 self.sim.model, self.sim.handles.base_body_id, width, height
             )
-        frame = self._require_episode().frame
         return self._renderer.render(self.sim.data, frame.truth.yaw_rad, frame)
 
     def close(self) -> None:
