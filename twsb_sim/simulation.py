@@ -146,10 +146,12 @@ class Simulation:
         """Advance with raw wheel torques (N·m, left and right), clipped at the motor limits."""
         limit = self.handles.torque_limit_nm
         self.data.ctrl[list(self.handles.actuator_ids)] = np.clip(torques_nm, -limit, limit)
+        read = self.handles.read_balance_state  # no controller reads the pitch here
         for _ in range(n_steps):
             if self._shove is not None:
                 self._apply_shove(self._shove)
             mujoco.mj_step(self.model, self.data)
+            self.max_abs_pitch_rad = max(self.max_abs_pitch_rad, abs(read(self.data).pitch_rad))
 
     def set_shove(self, shove: Shove | None) -> None:
         """Start (or, with None, end) an external push on the body."""

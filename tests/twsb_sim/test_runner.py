@@ -162,3 +162,9 @@ def test_truth_matches_the_commands_in_force():
     assert last.command_velocity_mps == pytest.approx(0.5)
     assert last.command_yaw_rate_rad_s == pytest.approx(0.3)
     assert math.isfinite(last.pitch_rad) and last.rotation_sensor_to_world.shape == (3, 3)
+
+
+def test_raw_torques_track_the_peak_pitch_too():
+    sim = simulation_for(short(load_scenario("scenarios/hard_stop.toml"), 1.0), seed=0)
+    sim.step_torques(np.array([1.0, 1.0]), n_steps=100)  # open loop: the body tips back
+    assert sim.max_abs_pitch_rad >= abs(sim.pitch_rad()) > 0.01
