@@ -39,7 +39,16 @@ _SHARD_NAME = re.compile(r"episode_(\d{6,})\.parquet")
 
 
 class DatasetMismatchError(ValueError):
-    """``--out`` holds a data set made with other settings (or something else entirely)."""
+    """``--out`` holds a data set made with other settings (or something else entirely).
+
+    Attributes:
+        root: the folder.
+        reason: what is wrong with it.
+    """
+
+    def __init__(self, root: Path, reason: str) -> None:
+        self.root, self.reason = root, reason
+        super().__init__(f"{root}: {reason}")
 
 
 def episode_path(root: Path, episode: int) -> Path:
@@ -126,7 +135,7 @@ def prepare_output(root: Path, settings: dict[str, Any]) -> None:
     if info is None:
         if root.exists() and any(root.iterdir()):
             raise DatasetMismatchError(
-                f"{root}: not empty and not a data set (no {INFO_FILE}); choose a new --out"
+                root, f"not empty and not a data set (no {INFO_FILE}); choose a new --out"
             )
         _write_json(root / INFO_FILE, {"settings": settings})
         return
@@ -135,8 +144,9 @@ def prepare_output(root: Path, settings: dict[str, Any]) -> None:
     if differences:
         listed = "; ".join(differences[:5]) + ("; ..." if len(differences) > 5 else "")
         raise DatasetMismatchError(
-            f"{root}: holds a data set made with different settings ({listed}); run with "
-            "the same settings to resume or extend it, or choose a new --out"
+            root,
+            f"holds a data set made with different settings ({listed}); run with the same "
+            "settings to resume or extend it, or choose a new --out",
         )
     remove_partial_files(root)
 
