@@ -170,12 +170,13 @@ def write_metadata(root: Path, settings: dict[str, Any], summaries: list[dict[st
     summaries = sorted(summaries, key=lambda s: s["episode"])
     lines = "".join(json.dumps(s, sort_keys=True) + "\n" for s in summaries)
     write_atomic(root / EPISODES_FILE, lines.encode())
+    scans = [s["scan"] for s in summaries if s.get("scan")]
     beams = {label.name: sum(s["beams_per_label"][label.name] for s in summaries)
              for label in BeamLabel}  # fmt: skip
     info = {
         "format_version": FORMAT_VERSION,
         "settings": settings,
-        "scan": summaries[0]["scan"] if summaries else None,
+        "scan": dict(sorted(scans[0].items())) if scans else None,  # same order as in footers
         "labels": {label.name: int(label) for label in BeamLabel},
         "pitch_variation_labels": ["FLOOR", "CEILING", "HORIZONTAL"],
         "columns": [

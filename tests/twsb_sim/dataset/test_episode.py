@@ -1,0 +1,82 @@
+"""Episodes: drawn from (seed, k) alone, simulated reproducibly, falls kept and flagged."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from twsb_sim.dataset.episode import draw_episode, episode_seed_sequence, run_episode
+from twsb_sim.dataset.randomization import randomization_from_table
+from twsb_sim.dataset.schema import SCHEMA
+from twsb_sim.labels import BeamLabel
+from twsb_sim.scenario import scenario_from_table
+
+from .conftest import SHORT
+
+
+def test_episode_seed_is_the_kth_child_of_the_data_set_seed():
+    children = np.random.SeedSequence(7).spawn(4)
+    assert episode_seed_sequence(7, 3).generate_state(4).tolist() == (
+        children[3].generate_state(4).tolist()
+    )
+
+
+def test_draw_depends_on_seed_and_episode_only(short_settings):
+    ranges = short_settings.randomization
+    first = draw_episode(7, 2, ranges)
+    draw_episode(7, 5, ranges)  # drawing another episode in between changes nothing
+    assert draw_episode(7, 2, ranges).scenario_table == first.scenario_table
+    assert draw_episode(7, 3, ranges).scenario_table != first.scenario_table
+    assert draw_episode(8, 2, ranges).scenario_table != first.scenario_table
+
+
+def test_drawn_table_is_a_valid_scenario(short_settings):
+    draw = draw_episode(3, 0, short_settings.randomization)
+    scenario = scenario_from_table(draw.scenario_table)
+    assert scenario.house.seed is not None or scenario.house.name in ("house1", "house2")
+    assert 2.0 <= scenario.duration_s <= 3.0
+
+
+def test_same_episode_same_rows(short_settings):
+    a = run_episode(5, 1, short_settings.randomization)
+    b = run_episode(5, 1, short_settings.randomization)
+    assert a.table.schema.equals(SCHEMA)
+    assert a.table.equals(b.table)
+    assert a.summary == b.summary
+    assert a.summary["scans"] == a.table.num_rows == round(a.summary["simulated_s"] * 10) + 1
+    labels = np.stack(a.table["labels"].to_numpy(zero_copy_only=False))
+    counts = a.table["n_occluded"].to_numpy()
+    assert (counts == (labels == BeamLabel.OCCLUDED).sum(axis=1)).all()
+
+
+@pytest.mark.parametrize(
+    ("shoves", "reason"),
+    [
+        (
+            {"longitudinal_force_n": 200.0, "max_angular_impulse_n_m_s": 50.0,
+             "displacement_m_per_n_s": 0.0, "sideways_fraction": 0.0},
+            "|pitch|",
+        ),
+        (
+            {"sideways_fraction": 1.0, "lateral_force_n": 150.0,
+             "max_sideways_angular_impulse_n_m_s": 50.0},
+            "|roll|",
+        ),
+    ],
+)  # fmt: skip
+def test_a_fall_is_kept_cut_and_flagged(shoves, reason):
+    table = {
+        **SHORT,
+        "episode": {"duration_s": 6.0},
+        "shoves": {"probability": 1.0, "duration_s": 0.3, "height_m": 0.45, **shoves},
+    }
+    ranges = randomization_from_table(table)
+    for episode in range(20):  # the first episode whose plan has a shove
+        if draw_episode(1, episode, ranges).scenario_table["shoves"]:
+            break
+    result = run_episode(1, episode, ranges)
+    assert result.summary["fell"]
+    assert reason in result.summary["end_reason"]
+    assert 0 < result.table.num_rows < 61  # kept, up to the fall
+    roll = np.degrees(np.abs(result.table["roll_rad"].to_numpy()))
+    assert roll.max() <= 45.0
