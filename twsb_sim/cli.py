@@ -17,6 +17,7 @@ from twsb_sim.config_errors import ConfigError
 from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
 from twsb_sim.rerun_log.recording import add_recording_args
+from twsb_sim.slam.cli import add_slam_parser
 
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
@@ -99,6 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run_parser(commands)
     add_eval_parser(commands)
     add_dataset_commands(commands)  # generate, export-bag
+    add_slam_parser(commands)
     return parser
 
 
