@@ -57,18 +57,22 @@ class OccupancyGrid:
         self.occupied_update = log_odds(p_occupied)
         self.log_odds_limit = float(log_odds_limit)
         self.updates = 0  # scans integrated so far
-        self._probability: np.ndarray | None = None  # cache, reset by every update
+        # kept in step with the log-odds, cell by cell, by every update
+        self._probability = np.full((self.cells, self.cells), 0.5)
 
     # --- reading -------------------------------------------------------------------------
 
     def probability(self) -> np.ndarray:
         """Occupancy probability of every cell, shape ``(cells, cells)``, index ``[i_x, i_y]``.
 
-        Computed once per map update and cached (do not modify the array).
+        The grid's own array, updated in place by :meth:`update` (do not modify it). After
+        writing ``log_odds`` directly, call :meth:`refresh`.
         """
-        if self._probability is None:
-            self._probability = 1.0 / (1.0 + np.exp(-self.log_odds))
         return self._probability
+
+    def refresh(self) -> None:
+        """Recompute every cell's probability from ``log_odds``."""
+        self._probability = 1.0 / (1.0 + np.exp(-self.log_odds))
 
     def extent_m(self) -> tuple[float, float, float, float]:
         """``(x_min, x_max, y_min, y_max)`` of the grid in the world, m."""
@@ -137,7 +141,6 @@ class OccupancyGrid:
         ends = (np.asarray(endpoints_xy, dtype=np.float64) - self.origin_xy) / self.resolution_m
         ends = ends.reshape(-1, 2)[np.all(np.isfinite(ends.reshape(-1, 2)), axis=1)]
         self.updates += 1
-        self._probability = None
         if len(ends) == 0:
             return
         delta = ends - start
@@ -152,14 +155,17 @@ class OccupancyGrid:
         t = (np.arange(ray.size) - first) / samples[ray]  # in [0, 1): the end cell excluded
         free = self._linear_index(start + t[:, None] * delta[ray])
         occupied = self._linear_index(ends)
-        occupied = np.unique(occupied[occupied >= 0])
-        free = np.unique(free[free >= 0])
-        free = free[~np.isin(free, occupied, assume_unique=True)]
+        free, occupied = free[free >= 0], occupied[occupied >= 0]
+        # indices repeat (many samples per cell, beams sharing cells): a fancy-indexed
+        # ``+=`` applies once per distinct cell, which is the once-per-scan rule; cells
+        # both crossed and hit end as hit: their value before the scan plus the hit
         flat = self.log_odds.reshape(-1)
+        before_hit = flat[occupied]
         flat[free] += self.free_update
-        flat[occupied] += self.occupied_update
+        flat[occupied] = before_hit + self.occupied_update
         touched = np.concatenate((free, occupied))
         flat[touched] = np.clip(flat[touched], -self.log_odds_limit, self.log_odds_limit)
+        self._probability.reshape(-1)[touched] = 1.0 / (1.0 + np.exp(-flat[touched]))
 
     def _linear_index(self, cell_xy: np.ndarray) -> np.ndarray:
         """Flat index of the cell holding each continuous cell coordinate, -1 outside."""

@@ -9,6 +9,7 @@ from scaneval.slam import OccupancyGrid
 def _random_grid(seed: int = 0) -> OccupancyGrid:
     grid = OccupancyGrid(resolution_m=0.1, size_m=4.0)
     grid.log_odds[:] = np.random.default_rng(seed).normal(0.0, 2.0, grid.log_odds.shape)
+    grid.refresh()
     return grid
 
 
@@ -55,6 +56,14 @@ def test_ray_update_frees_the_beam_and_occupies_its_end():
     # every touched cell was updated once: free cells read p_free exactly
     assert np.isclose(probability, 0.4).sum() == pytest.approx(40 + 30, abs=4)
     assert np.isclose(probability, 0.9).sum() == 2
+
+
+def test_probabilities_follow_the_log_odds_through_updates():
+    grid = OccupancyGrid(resolution_m=0.05, size_m=6.0)
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        grid.update(rng.uniform(-1, 1, 2), rng.uniform(-2.9, 2.9, (50, 2)))
+    np.testing.assert_allclose(grid.probability(), 1.0 / (1.0 + np.exp(-grid.log_odds)))
 
 
 def test_log_odds_stay_within_the_limit():
