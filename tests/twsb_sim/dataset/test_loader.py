@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pyarrow.dataset as pads
@@ -12,7 +13,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from twsb_sim.dataset.loader import label_count_filter, open_dataset
-from twsb_sim.dataset.schema import SCHEMA
+from twsb_sim.dataset.schema import COLUMNS, SCHEMA
 from twsb_sim.labels import BeamLabel, is_pitch_variation
 
 from .conftest import EPISODES
@@ -104,3 +105,10 @@ def test_reading_never_loads_the_simulator(reference):
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == [str(len(open_dataset(reference))), "False"]
+
+
+def test_readme_documents_every_column():
+    readme = (Path(__file__).parents[3] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Generating labeled data sets", 1)[1].split("\n## ", 1)[0]
+    missing = [name for name, _, _ in COLUMNS if f"`{name}`" not in section]
+    assert not missing
