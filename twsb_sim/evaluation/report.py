@@ -10,6 +10,7 @@ import json
 import math
 from pathlib import Path
 
+from pvfilter import FilterParams
 from twsb_sim.evaluation import plots
 from twsb_sim.evaluation.diagnosis import MISS_STAGES
 from twsb_sim.evaluation.experiment import LABELS, Evaluation
@@ -289,6 +290,21 @@ def _matching_section(results: dict) -> str:
     return "\n\n".join(parts)
 
 
+def _detection_bound() -> str:
+    """What Table I asks of P(L) for a cluster straight ahead or behind to be detected."""
+    params = FilterParams()
+    least_p_theta = math.exp(-1.0 / (2.0 * params.sigma_theta**2))  # cos^2 = 1
+    most_p_l = (1.0 - params.p_th) / least_p_theta
+    # the mean point likelihood exp(-d^2 / 2 sigma_l^2) falls below it at this distance
+    distance = params.sigma_l * math.sqrt(-2.0 * math.log(most_p_l))
+    return (
+        f"With Table I, P(θ) is at least exp(-1 / 2σ_θ²) = {least_p_theta:.2f} (straight "
+        f"ahead or behind), so P(C_pv) > P_th = {params.p_th:g} needs P(L) < "
+        f"{most_p_l:.2f}: were its points all at one distance from the previous scan, "
+        f"that distance would have to exceed {distance:.1f} m (σ_l = {params.sigma_l:g} m)."
+    )
+
+
 def _reductions(per_matcher: dict) -> str:
     return ", ".join(
         f"{name.upper()} {_f(m['chamfer_reduction_pct'], 1)} %" for name, m in per_matcher.items()
@@ -303,6 +319,7 @@ def _diagnosis_section(results: dict) -> str:
         "for the first time (no hit of the previous frame within 0.3 m), and whether "
         "detection or tracking removed it. P(θ), P(L) and P(C_pv) of the clusters that "
         "pass the v_C gate show what separates pitch variation from structure.",
+        _detection_bound(),
     ]
     for seq, d in results["diagnosis"].items():
         total = sum(d["misses"].values())
