@@ -17,7 +17,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from twsb_sim.dataset.generate import GenerationSettings, generate
+from twsb_sim.dataset.generation import GenerationSettings, generate
 
 
 def scans_per_s(episodes: int, workers: int, settings: GenerationSettings) -> tuple[float, int]:

@@ -59,7 +59,7 @@ def add_dataset_commands(commands: argparse._SubParsersAction) -> None:
 
 
 def _generate(args: argparse.Namespace) -> int:
-    from twsb_sim.dataset.generate import GenerationSettings, generate
+    from twsb_sim.dataset.generation import GenerationSettings, generate
     from twsb_sim.dataset.randomization import load_randomization
     from twsb_sim.dataset.store import DatasetMismatchError
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from twsb_sim.dataset.generate import GenerationSettings, generate
+from twsb_sim.dataset.generation import GenerationSettings, generate
 from twsb_sim.dataset.randomization import randomization_from_table
 
 SEED = 11

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from twsb_sim.dataset.generate import generate
+from twsb_sim.dataset.generation import generate
 
 from .conftest import shard_bytes
 

@@ -11,7 +11,7 @@ import time
 import pytest
 
 from twsb_sim.cli import main
-from twsb_sim.dataset.generate import generate
+from twsb_sim.dataset.generation import generate
 from twsb_sim.dataset.store import DatasetMismatchError
 
 from .conftest import EPISODES, SEED, shard_bytes
@@ -75,3 +75,11 @@ def test_command_line_errors_are_one_line(tmp_path, capsys, short_ranges_file):
     assert main(["generate", "--out", str(tmp_path / "x"), "--workers", "0"]) == 2
     assert main(["generate", "--show-ranges", "--ranges", str(short_ranges_file)]) == 0
     assert "duration_s = [2.0, 3.0]" in capsys.readouterr().out
+
+
+def test_package_exports_the_functions():
+    import twsb_sim.dataset as dataset
+    from twsb_sim.dataset import generation
+
+    assert dataset.generate is generation.generate  # not the module of the same stem
+    assert set(dataset.__all__) >= {"generate", "open_dataset", "export_bag", "run_episode"}

@@ -43,7 +43,7 @@ from twsb_sim.dataset.store import (
 FALLEN_EPISODES_RULE = "kept: cut at the fall and flagged (fell, end_reason) in the summary"
 # modules a fresh worker would import on its first task (the controller design library
 # takes about a second): the pool's server process imports them once for all workers
-_WORKER_PRELOAD = ["twsb_sim.dataset.generate", "control"]
+_WORKER_PRELOAD = ["twsb_sim.dataset.generation", "control"]
 
 EpisodeOutput = tuple[int, bytes, dict[str, Any]]  # episode, shard bytes, summary
 
