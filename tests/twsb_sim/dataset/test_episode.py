@@ -6,9 +6,12 @@ import numpy as np
 import pytest
 
 from twsb_sim.dataset.episode import draw_episode, episode_seed_sequence, run_episode
+from twsb_sim.dataset.loader import open_dataset
 from twsb_sim.dataset.randomization import randomization_from_table
+from twsb_sim.dataset.recorder import EpisodeRecorder
 from twsb_sim.dataset.schema import SCHEMA
 from twsb_sim.labels import BeamLabel
+from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 
 from .conftest import SHORT
@@ -80,3 +83,11 @@ def test_a_fall_is_kept_cut_and_flagged(shoves, reason):
     assert 0 < result.table.num_rows < 61  # kept, up to the fall
     roll = np.degrees(np.abs(result.table["roll_rad"].to_numpy()))
     assert roll.max() <= 45.0
+
+
+def test_summary_scenario_reruns_to_the_same_scans(reference):
+    episode = open_dataset(reference).episode(4)
+    scenario = scenario_from_table(episode.summary["scenario"])
+    recorder = EpisodeRecorder()
+    run_scenario(scenario, seed=scenario.seed, sinks=[recorder])
+    np.testing.assert_array_equal(np.stack(recorder.ranges), episode.ranges)
