@@ -130,14 +130,14 @@ def _simulate(
     for sink in sinks:  # optional hook: the sink sees the house, the model and the timeline
         if hasattr(sink, "on_start"):
             sink.on_start(scenario, sim)
+    frame_steps = range(0, n_steps + 1, frame_every)
+    timeline_steps = {*frame_steps, *shove_starts, *shove_ends, *phase_starts, n_steps}
     # optional hook: sinks with a ``state_rate_hz`` get the robot's truth at that rate too;
-    # with none, no breakpoint is added, so the physics loop pays nothing
+    # with none, no breakpoint is added, so the physics loop pays nothing; their extra
+    # breakpoints only sample the state (no fall check), so the run stays the same
     state_every = _state_intervals(sinks, dt)
     state_steps = {k for _, every in state_every for k in range(0, n_steps + 1, every)}
-    breakpoints = sorted(
-        {*range(0, n_steps + 1, frame_every), *shove_starts, *shove_ends, *phase_starts, n_steps}
-        | state_steps
-    )
+    breakpoints = sorted(timeline_steps | state_steps)
     events = lambda text: [sink.on_event(sim.time_s, text) for sink in sinks]  # noqa: E731
     frame_index = 0
     for k, k_next in zip(breakpoints, [*breakpoints[1:], None], strict=True):
@@ -153,7 +153,7 @@ def _simulate(
                 f"shove: {np.linalg.norm(force):.0f} N for {shove.duration_s:g} s"
                 + (f" ({shove.label})" if shove.label else "")
             )
-        if sim.has_fallen():
+        if k in timeline_steps and sim.has_fallen():
             pitch_deg = abs(math.degrees(sim.pitch_rad()))
             limit_deg = scenario.simulation.fall_pitch_deg
             reason = f"fell: |pitch| {pitch_deg:.0f} deg > {limit_deg:g} deg"

@@ -86,7 +86,8 @@ def hard_stop_recording(tmp_path_factory):
     """3.2 s of the hard-stop scenario: floor hits while accelerating, a few removals."""
     scenario = shortened("hard_stop", 3.2)
     path = tmp_path_factory.mktemp("rerun") / "hard_stop.rrd"
-    collect = record(path, scenario, flush_every=7)  # batches that do not divide the run
+    # batches that do not divide the run; robot states at 50 Hz between the frames
+    collect = record(path, scenario, flush_every=7, state_rate_hz=50.0)
     return path, collect
 
 
@@ -96,7 +97,7 @@ def test_recording_holds_the_expected_entity_paths(hard_stop_recording):
     expected = [
         paths.HOUSE_FLOOR, paths.HOUSE_WALLS, f"{paths.HOUSE_FURNITURE}/boxes",
         f"{paths.ROBOT_BODY}/boxes", paths.ROBOT, paths.ROBOT_LIDAR, paths.TRAJECTORY,
-        paths.LIDAR_HITS, paths.SENSOR_FRAME, paths.SENSOR_LABELS, paths.SENSOR_DECISION,
+        paths.LIDAR_HITS, paths.SENSOR_FRAME, paths.SENSOR_DECISION,
         paths.SENSOR_REMOVED, paths.SENSOR_CLUSTERS, paths.SENSOR_CLUSTER_BOXES,
         paths.SENSOR_CLUSTER_IDS, paths.PLOT_PITCH, paths.PLOT_WHEEL_TORQUE, paths.PLOT_BEAMS,
         paths.PLOT_PRECISION_RECALL, paths.PLOT_P_PV, paths.EVENTS,
@@ -107,7 +108,7 @@ def test_recording_holds_the_expected_entity_paths(hard_stop_recording):
 
 def test_one_scan_per_frame_with_one_point_per_valid_beam(hard_stop_recording):
     path, collect = hard_stop_recording
-    scans = entity_rows(path, paths.SENSOR_LABELS, "Points2D:positions")
+    scans = entity_rows(path, paths.SENSOR_DECISION, "Points2D:positions")
     hits = entity_rows(path, paths.LIDAR_HITS, "Points3D:positions")
     assert sorted(scans) == sorted(hits) == [f.index for f in collect.frames]
     for frame in collect.frames:
@@ -119,16 +120,25 @@ def test_one_scan_per_frame_with_one_point_per_valid_beam(hard_stop_recording):
 
 def test_label_class_ids_are_the_simulators_labels(hard_stop_recording):
     path, collect = hard_stop_recording
-    sensor = entity_rows(path, paths.SENSOR_LABELS, "Points2D:class_ids")
     world = entity_rows(path, paths.LIDAR_HITS, "Points3D:class_ids")
     floor_seen = False
     for frame in collect.frames:
-        valid = frame.scan.valid_mask()
         hit = np.isfinite(frame.hit_points_world[:, 0])
-        np.testing.assert_array_equal(sensor[frame.index], frame.labels[valid])
         np.testing.assert_array_equal(world[frame.index], frame.labels[hit])
         floor_seen |= BeamLabel.FLOOR in world[frame.index]
     assert floor_seen, "the run should hold pitch-variation hits"
+
+
+def test_without_a_filter_the_sensor_view_shows_the_labels(tmp_path):
+    rec = rr.RecordingStream(APPLICATION_ID)
+    rec.save(tmp_path / "no_filter.rrd")
+    collect = Collect()
+    logger = RerunLogger(rec, close_recording=True)
+    run_scenario(shortened("hard_stop", 2.0), seed=0, sinks=[logger, collect])
+    sensor = entity_rows(tmp_path / "no_filter.rrd", paths.SENSOR_LABELS, "Points2D:class_ids")
+    assert not entity_rows(tmp_path / "no_filter.rrd", paths.SENSOR_DECISION, "Points2D:class_ids")
+    for frame in collect.frames:
+        np.testing.assert_array_equal(sensor[frame.index], frame.labels[frame.scan.valid_mask()])
 
 
 def test_filter_decisions_are_the_mask_the_filter_returned(hard_stop_recording):
@@ -148,15 +158,24 @@ def test_filter_decisions_are_the_mask_the_filter_returned(hard_stop_recording):
     assert removed_any, "the run should hold frames where the filter removed beams"
 
 
-def test_clusters_have_one_box_and_one_id_each(hard_stop_recording):
+def test_clusters_carry_their_ids_and_removed_ones_a_box_and_label(hard_stop_recording):
     path, collect = hard_stop_recording
+    points = entity_rows(path, paths.SENSOR_CLUSTERS, "Points2D:class_ids")
     boxes = entity_rows(path, paths.SENSOR_CLUSTER_BOXES, "Boxes2D:half_sizes")
-    ids = entity_rows(path, paths.SENSOR_CLUSTER_IDS, "Points2D:labels")
+    labels = entity_rows(path, paths.SENSOR_CLUSTER_IDS, "Points2D:labels")
+    boxed = 0
     for frame, result in zip(collect.frames, collect.results, strict=True):
-        assert len(boxes[frame.index]) == len(ids[frame.index]) == len(result.clusters)
-        for k, (label, record) in enumerate(zip(ids[frame.index], result.clusters, strict=True)):
-            assert label.startswith(f"#{k}")
-            assert ("detected" in label) == record.detected
+        expected_ids = np.full(len(frame.scan), -1)
+        for k, record in enumerate(result.clusters):
+            expected_ids[record.indices] = k
+        np.testing.assert_array_equal(points[frame.index], expected_ids[expected_ids >= 0])
+        removed = [(k, c) for k, c in enumerate(result.clusters) if c.detected or c.tracked]
+        assert len(boxes[frame.index]) == len(labels[frame.index]) == len(removed)
+        for label, (k, record) in zip(labels[frame.index], removed, strict=True):
+            assert label.startswith(f"#{k} P=")
+            assert label.endswith("detected" if record.detected else "tracked")
+        boxed += len(removed)
+    assert boxed, "the run should hold clusters the filter removed"
 
 
 def test_robot_state_is_sampled_between_frames(hard_stop_recording):
@@ -191,11 +210,26 @@ def test_a_recording_does_not_change_the_run(hard_stop_recording):
         assert a.truth.pitch_rad == b.truth.pitch_rad
 
 
+def test_a_fall_ends_the_run_at_the_same_time_with_a_recording(tmp_path):
+    shove = dataclasses.replace(
+        shortened("shove", 2.5).shoves[0], force_n=(150.0, 0.0, 0.0), duration_s=0.3
+    )
+    scenario = dataclasses.replace(shortened("shove", 4.0), shoves=(shove,))
+    plain = run_scenario(scenario, seed=0)
+    rec = rr.RecordingStream(APPLICATION_ID)
+    rec.save(tmp_path / "fall.rrd")
+    recorded = run_scenario(scenario, seed=0, sinks=[RerunLogger(rec, close_recording=True)])
+    assert plain.fell and recorded.fell
+    assert (recorded.end_reason, recorded.frames) == (plain.end_reason, plain.frames)
+    events = entity_rows(tmp_path / "fall.rrd", paths.EVENTS, "TextLog:text")
+    assert events[plain.frames - 1][0] == f"ended: {plain.end_reason}"
+
+
 def test_shove_shows_as_an_arrow_while_it_acts(tmp_path):
     scenario = shortened("shove", 2.5)
     (shove,) = scenario.shoves
     path = tmp_path / "shove.rrd"
-    record(path, scenario, state_rate_hz=None)
+    record(path, scenario)
     arrows = entity_rows(path, paths.SHOVES, "Arrows3D:vectors")
     assert list(arrows) == [round(shove.t_s * 10)]  # at the frame the shove starts
     (vector,) = arrows[round(shove.t_s * 10)]
@@ -231,7 +265,7 @@ def test_twsb_run_rrd_writes_a_recording(short_scenario, tmp_path, monkeypatch):
     monkeypatch.setenv("CI", "1")
     path = tmp_path / "out.rrd"
     assert main(["run", str(short_scenario), "--quiet", "--rrd", str(path)]) == 0
-    frames = entity_rows(path, paths.SENSOR_LABELS, "Points2D:positions")
+    frames = entity_rows(path, paths.SENSOR_DECISION, "Points2D:positions")
     assert sorted(frames) == list(range(11))
 
 

@@ -14,7 +14,7 @@ from twsb_sim.rerun_log.annotations import (
     label_annotation_context,
 )
 from twsb_sim.rerun_log.blueprint import default_blueprint
-from twsb_sim.rerun_log.events import log_event, log_shove
+from twsb_sim.rerun_log.events import log_events, log_shove
 from twsb_sim.rerun_log.geometry import log_house, log_robot_body, log_sensor_view_frame
 from twsb_sim.rerun_log.logger import RerunLogger
 from twsb_sim.rerun_log.plots import log_filter_series, log_robot_series, log_series_styles
@@ -43,7 +43,7 @@ __all__ = [
     "default_blueprint",
     "label_annotation_context",
     "log_clusters",
-    "log_event",
+    "log_events",
     "log_filter_decisions",
     "log_filter_series",
     "log_house",

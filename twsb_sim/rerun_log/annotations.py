@@ -6,12 +6,13 @@ Points carry class ids, not colours; the annotation context maps each id to a na
 
 from __future__ import annotations
 
+import functools
 from enum import IntEnum
 
 import numpy as np
 import rerun as rr
 
-from twsb_sim.labels import LABEL_NAMES, BeamLabel, is_pitch_variation
+from twsb_sim.labels import LABEL_NAMES, PITCH_VARIATION_LABELS, BeamLabel
 
 LABEL_COLORS: dict[BeamLabel, tuple[int, int, int]] = {
     BeamLabel.NO_RETURN: (90, 90, 90),
@@ -40,6 +41,14 @@ DECISION_COLORS: dict[BeamDecision, tuple[int, int, int]] = {
     BeamDecision.FALSE_NEGATIVE: (255, 0, 255),
 }
 
+
+def packed_colors(colors: np.ndarray) -> np.ndarray:
+    """RGB(A) uint8 rows as Rerun's packed ``0xRRGGBBAA`` uint32, which it takes ~20x faster."""
+    colors = np.asarray(colors, dtype=np.uint32).reshape(-1, np.shape(colors)[-1])
+    alpha = colors[:, 3] if colors.shape[1] == 4 else np.uint32(255)
+    return (colors[:, 0] << 24) | (colors[:, 1] << 16) | (colors[:, 2] << 8) | alpha
+
+
 # one colour per cluster id (cycled): distinct hues, none grey
 CLUSTER_PALETTE = np.array(
     [
@@ -50,7 +59,7 @@ CLUSTER_PALETTE = np.array(
 )  # fmt: skip
 DETECTED_COLOR = (255, 50, 50)  # a cluster detected in this scan (Algorithm 1)
 TRACKED_COLOR = (255, 165, 0)  # a queued cluster followed from the last scan (Algorithm 2)
-KEPT_CLUSTER_COLOR = (120, 120, 120)
+MAX_CLUSTER_CLASSES = 128  # cluster ids with a colour and a name (Table I's m_th allows 72)
 
 
 def label_annotation_context() -> rr.AnnotationContext:
@@ -60,11 +69,31 @@ def label_annotation_context() -> rr.AnnotationContext:
     )
 
 
+@functools.cache  # building it takes milliseconds: once per process
+def cluster_annotation_context() -> rr.AnnotationContext:
+    """Class id = cluster id within its scan: ``cluster #id``, palette colours cycled."""
+    return rr.AnnotationContext(
+        [
+            (k, f"cluster #{k}", tuple(CLUSTER_PALETTE[k % len(CLUSTER_PALETTE)].tolist()))
+            for k in range(MAX_CLUSTER_CLASSES)
+        ]
+    )
+
+
 def decision_annotation_context() -> rr.AnnotationContext:
     """Class id = :class:`BeamDecision`, named "true positive", ... ."""
     return rr.AnnotationContext(
         [(int(d), d.name.lower().replace("_", " "), DECISION_COLORS[d]) for d in BeamDecision]
     )
+
+
+_PITCH_VARIATION = np.zeros(256, dtype=bool)  # label code -> is a pitch-variation point
+_PITCH_VARIATION[list(PITCH_VARIATION_LABELS)] = True
+
+
+def pitch_variation_mask(labels: np.ndarray) -> np.ndarray:
+    """:func:`twsb_sim.labels.is_pitch_variation` by table lookup (for uint8 labels)."""
+    return _PITCH_VARIATION[labels]
 
 
 # index: removed + 2 * (decision wrong)
@@ -82,5 +111,5 @@ _DECISION_TABLE = np.array(
 def beam_decisions(labels: np.ndarray, removed: np.ndarray) -> np.ndarray:
     """:class:`BeamDecision` per beam (uint8), from ground-truth labels and the removed mask."""
     removed = np.asarray(removed, dtype=bool)
-    wrong = is_pitch_variation(labels) != removed
+    wrong = pitch_variation_mask(labels) != removed
     return _DECISION_TABLE[removed.astype(np.intp) + 2 * wrong]

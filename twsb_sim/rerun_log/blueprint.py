@@ -95,9 +95,9 @@ def _events_view() -> rrb.TextLogView:
 def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Blueprint:
     """The layout a recording opens with.
 
-    Top: the 3D world, the sensor view of the filter's decisions, and tabs with the
-    sensor view of clusters and of ground-truth labels. Bottom: the time series and the
-    event log. The time panel starts on ``sim_time``.
+    Top: the 3D world, the sensor view of the filter's decisions (of the ground-truth
+    labels in runs without a filter) and the sensor view of the clusters. Bottom: the
+    time series and the event log. The time panel starts on ``sim_time``.
 
     Args:
         start: the robot's start (x m, y m, yaw rad); the 3D camera then starts behind
@@ -107,6 +107,7 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
         "Sensor frame: filter decision per beam",
         paths.SENSOR_REMOVED,
         paths.SENSOR_DECISION,
+        paths.SENSOR_LABELS,  # runs without a filter: the labels instead
         paths.SENSOR_CLUSTER_BOXES,
     )
     clusters = _sensor_view(
@@ -115,7 +116,6 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
         paths.SENSOR_CLUSTER_BOXES,
         paths.SENSOR_CLUSTER_IDS,
     )
-    labels = _sensor_view("Sensor frame: ground-truth labels", paths.SENSOR_LABELS)
     plots = rrb.Grid(
         _plot("Pitch", paths.PLOT_PITCH),
         _plot("Pitch rate", paths.PLOT_PITCH_RATE),
@@ -132,7 +132,7 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
             rrb.Horizontal(
                 _world_view(start),
                 decisions,
-                rrb.Tabs(clusters, labels),
+                clusters,
                 column_shares=[4, 3, 3],
             ),
             rrb.Horizontal(plots, _events_view(), column_shares=[5, 1]),

@@ -6,11 +6,13 @@ at the first frame that follows it.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import rerun as rr
 
 from twsb_sim.rerun_log import paths
-from twsb_sim.rerun_log.timelines import set_time
+from twsb_sim.rerun_log.timelines import frame_times, set_time
 
 SHOVE_ARROW_M_PER_N = 0.01  # a 40 N push draws a 0.4 m arrow
 SHOVE_COLOR = (255, 60, 60)
@@ -25,10 +27,15 @@ def event_level(text: str) -> str:
     return rr.TextLogLevel.INFO
 
 
-def log_event(rec: rr.RecordingStream, t_s: float, frame_index: int, text: str) -> None:
-    """One line in the ``events`` text log."""
-    set_time(rec, t_s, frame_index)
-    rec.log(paths.EVENTS, rr.TextLog(text, level=event_level(text)))
+def log_events(
+    rec: rr.RecordingStream, times_s: Sequence[float], frames: Sequence[int], texts: Sequence[str]
+) -> None:
+    """Lines of the ``events`` text log, each at its time and frame."""
+    rec.send_columns(
+        paths.EVENTS,
+        indexes=frame_times(times_s, frames),
+        columns=rr.TextLog.columns(text=texts, level=[event_level(text) for text in texts]),
+    )
 
 
 def log_shove(

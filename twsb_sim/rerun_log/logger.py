@@ -1,13 +1,16 @@
 """The Rerun sink: hands a run's frames, states and events to the ``log_<thing>`` functions.
 
-:class:`RerunLogger` buffers what the run loop gives it and logs it in batches (one
-``send_columns`` per entity every ``flush_every`` frames, and at the end), so recording
-costs a few percent of the run. Its do-nothing twin is :class:`twsb_sim.sinks.NullSink`.
+:class:`RerunLogger` buffers what the run loop gives it and logs it in batches: one
+``send_columns`` per entity every ``flush_every`` frames or ``max_latency_s`` of wall
+time, whichever comes first, and at the end. A call into Rerun costs about the same for
+one row as for fifty, so batching is what keeps recording cheap. Its do-nothing twin is
+:class:`twsb_sim.sinks.NullSink`.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -15,16 +18,22 @@ import numpy as np
 import rerun as rr
 
 from twsb_sim.rerun_log import paths
-from twsb_sim.rerun_log.annotations import decision_annotation_context, label_annotation_context
+from twsb_sim.rerun_log.annotations import (
+    cluster_annotation_context,
+    decision_annotation_context,
+    label_annotation_context,
+)
+from twsb_sim.rerun_log.batch import FrameBatch
 from twsb_sim.rerun_log.blueprint import default_blueprint
-from twsb_sim.rerun_log.events import log_event, log_shove
+from twsb_sim.rerun_log.events import log_events, log_shove
 from twsb_sim.rerun_log.geometry import log_house, log_robot_body, log_sensor_view_frame
 from twsb_sim.rerun_log.plots import log_filter_series, log_robot_series, log_series_styles
-from twsb_sim.rerun_log.robot import log_robot_poses, log_trajectory
+from twsb_sim.rerun_log.robot import log_robot_poses, log_trajectory, log_trajectory_style
 from twsb_sim.rerun_log.scans import (
     log_clusters,
     log_filter_decisions,
     log_lidar_hits,
+    log_scan_styles,
     log_sensor_labels,
 )
 from twsb_sim.rerun_log.timelines import frame_times, sim_times
@@ -36,8 +45,8 @@ if TYPE_CHECKING:
     from twsb_sim.simulation import Simulation
     from twsb_sim.summary import RunSummary
 
-DEFAULT_STATE_RATE_HZ = 50.0  # robot-state samples between frames: smooth pitch and torques
-DEFAULT_FLUSH_EVERY = 10  # frames per batch: 1 s of simulated time at 10 Hz
+DEFAULT_FLUSH_EVERY = 300  # frames per batch: 30 s of simulated time at 10 Hz
+DEFAULT_MAX_LATENCY_S = 1.0  # wall time: a live viewer lags the run by at most about this
 TRAJECTORY_HEIGHT_M = 0.005  # the trajectory is drawn just above the floor
 
 
@@ -49,9 +58,11 @@ class RerunLogger:
 
     Args:
         rec: the recording to log to, its sinks (an .rrd file, a viewer) already set.
-        state_rate_hz: rate of the robot-state samples between frames, for the 3D pose
-            and the plots; None or 0 for the frames' 10 Hz only.
+        state_rate_hz: rate of extra robot-state samples (the run loop's state hook) for
+            the 3D pose and the plots, e.g. 50 Hz to catch wheel-torque spikes that the
+            frames' 10 Hz miss (it costs about 10 % more run time); None: frames only.
         flush_every: frames buffered before a batch is logged.
+        max_latency_s: wall time after which a batch is logged even if smaller (s).
         send_blueprint: send :func:`default_blueprint` as the recording's default layout.
         p_th: the filter's detection threshold P_th, drawn beside the clusters' P(C_pv).
         close_recording: at :meth:`close`, also disconnect the recording from its sinks
@@ -61,8 +72,9 @@ class RerunLogger:
     def __init__(
         self,
         rec: rr.RecordingStream,
-        state_rate_hz: float | None = DEFAULT_STATE_RATE_HZ,
+        state_rate_hz: float | None = None,
         flush_every: int = DEFAULT_FLUSH_EVERY,
+        max_latency_s: float = DEFAULT_MAX_LATENCY_S,
         send_blueprint: bool = True,
         p_th: float = math.nan,
         close_recording: bool = False,
@@ -72,12 +84,15 @@ class RerunLogger:
         self.rec = rec
         self.state_rate_hz = state_rate_hz or None  # read by the run loop
         self.flush_every = flush_every
+        self.max_latency_s = max_latency_s
+        self._last_flush = time.monotonic()
         self.send_blueprint = send_blueprint
         self.p_th = p_th
         self.close_recording = close_recording
         self._frames: list[Frame] = []
         self._results: list[Any | None] = []
         self._states: list[RobotTruth] = []
+        self._events: list[tuple[float, int, str]] = []  # (sim_time s, frame, text)
         self._sim: Simulation | None = None
         self._scenario: Scenario | None = None
         self._runs = 0
@@ -104,35 +119,43 @@ class RerunLogger:
             rec.send_blueprint(default_blueprint(start), make_active=False, make_default=True)
         rec.log("/", label_annotation_context(), static=True)
         rec.log(paths.SENSOR_DECISION, decision_annotation_context(), static=True)
+        rec.log(paths.SENSOR_CLUSTERS, cluster_annotation_context(), static=True)
         log_house(rec, sim.house)
         log_robot_body(rec, sim.model, sim.handles.base_body_id, sim.handles.lidar_site_id)
         log_sensor_view_frame(rec, sim.lidar.range_max)
         log_series_styles(rec)
+        log_scan_styles(rec)
+        log_trajectory_style(rec)
         self._event(sim.time_s, f"run: {scenario.name} in {sim.house.name}")
 
     def on_state(self, truth: RobotTruth) -> None:
         self._states.append(truth)
 
     def on_frame(self, frame: Frame, filter_result: Any | None) -> None:
+        if self._frames and len(frame.scan) != len(self._frames[0].scan):
+            self.flush()  # a batch stacks scans of one length
         self._frames.append(frame)
         self._results.append(filter_result)
-        if len(self._frames) >= self.flush_every:
+        if (
+            len(self._frames) >= self.flush_every
+            or time.monotonic() - self._last_flush > self.max_latency_s
+        ):
             self.flush()
 
     def on_event(self, t_s: float, text: str) -> None:
-        self.flush()  # the data before the event goes out first
         self._event(t_s, text)
         if text.startswith("shove"):
             self._log_shove_at(t_s)
 
     def close(self, summary: RunSummary) -> None:
         """Log what is left and how the run ended; flush the recording to its sinks."""
-        self.flush()
         t_s = self._sim.time_s if self._sim is not None else summary.simulated_s
-        self._event(t_s, f"ended: {summary.end_reason}", frame=self._frames_logged - 1)
-        self.rec.flush()
+        self._event(t_s, f"ended: {summary.end_reason}", frame=max(self._next_frame() - 1, 0))
+        self.flush()
         if self.close_recording:
-            self.rec.disconnect()
+            self.rec.disconnect()  # flushes, and finishes an .rrd file
+        else:
+            self.rec.flush()
 
     # -- batches --------------------------------------------------------------------------
 
@@ -140,6 +163,10 @@ class RerunLogger:
         """Log the buffered frames and states now."""
         frames, results, states = self._frames, self._results, self._states
         self._frames, self._results, self._states = [], [], []
+        self._last_flush = time.monotonic()
+        if self._events:
+            log_events(self.rec, *zip(*self._events, strict=True))
+            self._events = []
         if frames:
             self._log_frames(frames, results)
         if frames or states:
@@ -151,18 +178,17 @@ class RerunLogger:
         )
 
     def _log_frames(self, frames: list[Frame], results: list[Any | None]) -> None:
-        rec, times = self.rec, self._frame_times(frames)
-        log_lidar_hits(rec, times, frames)
-        log_sensor_labels(rec, times, frames)
-        log_filter_series(rec, times, frames, results, self.p_th)
-        filtered = [(f, r) for f, r in zip(frames, results, strict=True) if r is not None]
-        if filtered:  # frames the filter ran on
-            kept_frames, kept_results = (list(column) for column in zip(*filtered, strict=True))
-            kept_times = self._frame_times(kept_frames)
-            log_filter_decisions(rec, kept_times, kept_frames, kept_results)
-            log_clusters(rec, kept_times, kept_frames, kept_results)
-        self._frames_logged = self._frame0 + frames[-1].index + 1
-        self._last_t_s = self._t0_s + frames[-1].stamp_s
+        rec, batch = self.rec, FrameBatch.of(frames, results, self._t0_s, self._frame0)
+        log_lidar_hits(rec, batch)
+        log_filter_series(rec, batch, self.p_th)
+        if len(decided := batch.with_results("removed")):
+            log_filter_decisions(rec, decided)
+        if len(unfiltered := batch.without_results("removed")):  # no decision to show
+            log_sensor_labels(rec, unfiltered)
+        if len(clustered := batch.with_results("detection")):  # the PVF's clusters
+            log_clusters(rec, clustered)
+        self._frames_logged = int(batch.indices[-1]) + 1
+        self._last_t_s = float(batch.stamps_s[-1])
 
     def _log_robot(self, frames: list[Frame], states: list[RobotTruth]) -> None:
         """Poses, trajectory and state plots from frame and state samples, in time order."""
@@ -188,9 +214,14 @@ class RerunLogger:
 
     # -- events ---------------------------------------------------------------------------
 
+    def _next_frame(self) -> int:
+        """The index on ``frame`` of the frame still to come (buffered ones included)."""
+        return self._frame0 + self._frames[-1].index + 1 if self._frames else self._frames_logged
+
     def _event(self, t_s: float, text: str, frame: int | None = None) -> None:
         """A text-log line at ``t_s`` of this run (on ``frame``: the next frame, by default)."""
-        log_event(self.rec, self._t0_s + t_s, self._frames_logged if frame is None else frame, text)
+        frame = self._next_frame() if frame is None else frame
+        self._events.append((self._t0_s + t_s, frame, text))
 
     def _log_shove_at(self, t_s: float) -> None:
         """An arrow for the scenario's shove that starts now (none if the scenario has none)."""
@@ -205,7 +236,7 @@ class RerunLogger:
         mujoco.mju_quat2Mat(rotation, truth.quat_base_in_world)
         point = truth.position_base_in_world + rotation.reshape(3, 3) @ np.array(shove.point_m)
         force = heading_force_to_world(shove.force_n, truth.yaw_rad)
-        start_frame = self._frames_logged
+        start_frame = self._next_frame()
         # on the frame timeline it shows for at least one frame, even when shorter
         end_frame = max(
             self._frame0 + math.ceil(shove.end_s * scenario.lidar.rate_hz - 1e-9), start_frame + 1

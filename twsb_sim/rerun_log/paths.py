@@ -25,12 +25,12 @@ SENSOR = "sensor"  # 2D view origin: the sensor frame drawn with x (forward) up
 SENSOR_FRAME = "sensor/lidar"  # static Transform3D from the sensor frame to the drawing
 SENSOR_ROBOT = "sensor/lidar/robot"  # static: the robot's footprint and heading
 SENSOR_RINGS = "sensor/lidar/rings"  # static: range rings every metre
-SENSOR_LABELS = "sensor/lidar/labels"  # scan points, class = BeamLabel (ground truth)
+SENSOR_LABELS = "sensor/lidar/labels"  # without a filter: scan points, class = BeamLabel
 SENSOR_DECISION = "sensor/lidar/decision"  # scan points, class = BeamDecision (TP/FP/FN/TN)
 SENSOR_REMOVED = "sensor/lidar/removed"  # the beams the filter removed
-SENSOR_CLUSTERS = "sensor/lidar/clusters"  # clustered points, one colour per cluster
-SENSOR_CLUSTER_BOXES = "sensor/lidar/cluster_boxes"  # bounds: detected, tracked or kept
-SENSOR_CLUSTER_IDS = "sensor/lidar/cluster_ids"  # at each centroid: id, P(C_pv), state
+SENSOR_CLUSTERS = "sensor/lidar/clusters"  # clustered points, class = cluster id
+SENSOR_CLUSTER_BOXES = "sensor/lidar/cluster_boxes"  # removed clusters: detected or tracked
+SENSOR_CLUSTER_IDS = "sensor/lidar/cluster_ids"  # their centroids: id, P(C_pv), state
 
 PLOTS = "plots"
 PLOT_PITCH = "plots/pitch"  # deg, positive = nose down

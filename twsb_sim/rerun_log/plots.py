@@ -9,31 +9,36 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 import rerun as rr
 
-from twsb_sim.frame import Frame, RobotTruth
-from twsb_sim.labels import is_pitch_variation
+from twsb_sim.frame import RobotTruth
 from twsb_sim.rerun_log import paths
+from twsb_sim.rerun_log.annotations import pitch_variation_mask
+from twsb_sim.rerun_log.batch import FrameBatch
 from twsb_sim.rerun_log.timelines import Times
 
 
 def log_robot_series(rec: rr.RecordingStream, times: Times, truths: Sequence[RobotTruth]) -> None:
     """Pitch, pitch rate, velocity and yaw rate (command and actual), wheel torques."""
+    v = np.array(
+        [
+            (t.pitch_rad, t.pitch_rate_rad_s, t.command_velocity_mps, t.forward_velocity_mps,
+             t.command_yaw_rate_rad_s, t.yaw_rate_rad_s, *t.wheel_torques_nm)
+            for t in truths
+        ]
+    )  # fmt: skip
     deg = math.degrees(1.0)
     columns = {
-        paths.PLOT_PITCH: [[t.pitch_rad * deg] for t in truths],
-        paths.PLOT_PITCH_RATE: [[t.pitch_rate_rad_s * deg] for t in truths],
-        paths.PLOT_VELOCITY: [[t.command_velocity_mps, t.forward_velocity_mps] for t in truths],
-        paths.PLOT_YAW_RATE: [
-            [t.command_yaw_rate_rad_s * deg, t.yaw_rate_rad_s * deg] for t in truths
-        ],
-        paths.PLOT_WHEEL_TORQUE: [t.wheel_torques_nm for t in truths],
+        paths.PLOT_PITCH: v[:, 0:1] * deg,
+        paths.PLOT_PITCH_RATE: v[:, 1:2] * deg,
+        paths.PLOT_VELOCITY: v[:, 2:4],
+        paths.PLOT_YAW_RATE: v[:, 4:6] * deg,
+        paths.PLOT_WHEEL_TORQUE: v[:, 6:8],
     }
     for path, values in columns.items():
-        rec.send_columns(path, indexes=times, columns=rr.Scalars.columns(scalars=np.array(values)))
+        rec.send_columns(path, indexes=times, columns=rr.Scalars.columns(scalars=values))
 
 
 # (entity, series names, colours): logged once, static, so each plot has its legend
@@ -58,53 +63,48 @@ def log_series_styles(rec: rr.RecordingStream) -> None:
         rec.log(path, rr.SeriesLines(names=names, colors=colors), static=True)
 
 
-def frame_counts(frame: Frame, result: Any | None) -> tuple[float, float, float, float]:
-    """(pitch-variation beams, removed beams, precision, recall) of one frame.
+def filter_counts(batch: FrameBatch) -> np.ndarray:
+    """Per frame: pitch-variation beams, removed beams, precision, recall; ``(K, 4)``.
 
     Counted over beams with a finite input range (DESIGN.md); precision is 1 where
     nothing is removed, recall NaN where there is no pitch-variation beam; the filter's
-    numbers are NaN when no filter ran.
+    numbers are NaN for frames without a filter result.
     """
-    finite = np.isfinite(frame.scan.ranges)
-    truth = is_pitch_variation(frame.labels) & finite
-    n_truth = int(np.count_nonzero(truth))
-    if result is None:
-        return n_truth, math.nan, math.nan, math.nan
-    removed = np.asarray(result.removed, dtype=bool) & finite
-    tp = int(np.count_nonzero(truth & removed))
-    n_removed = int(np.count_nonzero(removed))
-    precision = tp / n_removed if n_removed else 1.0
-    recall = tp / n_truth if n_truth else math.nan
-    return n_truth, n_removed, precision, recall
+    finite = np.isfinite(batch.ranges)
+    truth = pitch_variation_mask(batch.labels) & finite
+    counts = np.full((len(batch), 4), np.nan)
+    counts[:, 0] = truth.sum(axis=1)
+    with_result = [i for i, r in enumerate(batch.results) if hasattr(r, "removed")]
+    if with_result:
+        removed = batch.subset(with_result).stack("removed", bool) & finite[with_result]
+        tp = (truth[with_result] & removed).sum(axis=1)
+        n_removed, n_truth = removed.sum(axis=1), counts[with_result, 0]
+        counts[with_result, 1] = n_removed
+        with np.errstate(divide="ignore", invalid="ignore"):
+            counts[with_result, 2] = np.where(n_removed > 0, tp / n_removed, 1.0)
+            counts[with_result, 3] = np.where(n_truth > 0, tp / n_truth, np.nan)
+    return counts
 
 
-def log_filter_series(
-    rec: rr.RecordingStream,
-    times: Times,
-    frames: Sequence[Frame],
-    results: Sequence[Any | None],
-    p_th: float,
-) -> None:
+def log_filter_series(rec: rr.RecordingStream, batch: FrameBatch, p_th: float) -> None:
     """Beam counts (truth and removed), precision and recall, max P(C_pv) against P_th.
 
     Args:
         rec: the recording.
-        times: one time per frame.
-        frames: consecutive frames.
-        results: the filter's result per frame, or None where no filter ran.
-        p_th: the filter's detection threshold (NaN when no filter ran).
+        batch: consecutive frames (those without a filter result plot NaN).
+        p_th: the filter's detection threshold (NaN when unknown).
     """
-    counts = np.array([frame_counts(f, r) for f, r in zip(frames, results, strict=True)])
-    max_p_pv = [
-        max((c.p_pv for c in r.clusters if not math.isnan(c.p_pv)), default=0.0)
-        if r is not None
-        else math.nan
-        for r in results
-    ]
+    counts = filter_counts(batch)
+    # a beam's score is its cluster's P(C_pv): the max over beams is the max over clusters
+    max_p_pv = np.full(len(batch), math.nan)
+    scored = [i for i, r in enumerate(batch.results) if hasattr(r, "scores")]
+    if scored:
+        max_p_pv[scored] = batch.subset(scored).stack("scores", float).max(axis=1, initial=0.0)
     columns = {
         paths.PLOT_BEAMS: counts[:, :2],
         paths.PLOT_PRECISION_RECALL: counts[:, 2:],
-        paths.PLOT_P_PV: np.column_stack((max_p_pv, np.full(len(frames), p_th))),
+        paths.PLOT_P_PV: np.column_stack((max_p_pv, np.full(len(batch), p_th))),
     }
+    times = batch.times
     for path, values in columns.items():
         rec.send_columns(path, indexes=times, columns=rr.Scalars.columns(scalars=values))

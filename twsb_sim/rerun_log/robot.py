@@ -32,6 +32,15 @@ def log_robot_poses(rec: rr.RecordingStream, times: Times, truths: Sequence[Robo
     )
 
 
+def log_trajectory_style(rec: rr.RecordingStream) -> None:
+    """The trajectory's colour and width, once (static)."""
+    rec.log(
+        paths.TRAJECTORY,
+        rr.LineStrips3D.from_fields(colors=[TRAJECTORY_COLOR], radii=TRAJECTORY_RADIUS_UI),
+        static=True,
+    )
+
+
 def log_trajectory(rec: rr.RecordingStream, times: Times, segments: np.ndarray) -> None:
     """Trajectory segments on the floor, one per sample (the blueprint shows all so far).
 

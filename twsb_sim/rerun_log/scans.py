@@ -1,192 +1,177 @@
 """Per-frame scan data: world hit points, the sensor view's labels, decisions and clusters.
 
-Each ``log_<thing>`` takes a batch of consecutive frames and sends one column per
-entity (``send_columns``): logging a batch costs about what logging one frame would,
-which keeps a recording's cost within a few percent of the simulation's. Every frame
-gets a row, empty when it has nothing to show, so nothing stale lingers in the viewer.
+Each ``log_<thing>`` takes a :class:`~twsb_sim.rerun_log.batch.FrameBatch` and sends
+one column per entity (``send_columns``): a batch of frames costs little more than one
+frame would. Every frame gets a row, empty when it has nothing to show, so nothing stale
+lingers in the viewer.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Any
-
 import numpy as np
 import rerun as rr
 
-from twsb_sim.frame import Frame
 from twsb_sim.rerun_log import paths
 from twsb_sim.rerun_log.annotations import (
-    CLUSTER_PALETTE,
     DETECTED_COLOR,
-    KEPT_CLUSTER_COLOR,
     TRACKED_COLOR,
     beam_decisions,
+    packed_colors,
 )
-from twsb_sim.rerun_log.timelines import Times
+from twsb_sim.rerun_log.batch import FrameBatch
 
-POINT_RADIUS_UI = -2.5
-HIT_RADIUS_UI = -2.5  # negative radii are in UI points: the same size at any zoom
+POINT_RADIUS_UI = -2.5  # negative radii are in UI points: the same size at any zoom
+HIT_RADIUS_UI = -2.5
 REMOVED_RADIUS_UI = -4.5
+REMOVED_HALO_COLOR = (255, 255, 255, 90)  # drawn under the decision dots
 CLUSTER_BOX_PAD_M = 0.05
 BOX_LINE_RADIUS_UI = -1.0
 CENTROID_RADIUS_UI = -1.5
-REMOVED_HALO_COLOR = np.array([255, 255, 255, 90], dtype=np.uint8)  # under the decision dots
+_STATE_COLORS = packed_colors(np.array([DETECTED_COLOR, TRACKED_COLOR]))
 
 
-def _send_points(
+def _send(
     rec: rr.RecordingStream,
     path: str,
-    times: Times,
-    points: list[np.ndarray],
-    radius_ui: float,
-    archetype: type = rr.Points2D,
-    **fields: list[np.ndarray],
+    batch: FrameBatch,
+    archetype: type,
+    lengths: np.ndarray,
+    **fields: np.ndarray,
 ) -> None:
-    """One row per frame: ``points[i]`` and the ``fields[name][i]`` of each point of frame i."""
-    lengths = [len(p) for p in points]
-    width = 3 if archetype is rr.Points3D else 2
+    """One row per frame of ``batch``: frame i holds the next ``lengths[i]`` instances."""
     rec.send_columns(
-        path,
-        indexes=times,
-        columns=archetype.columns(
-            positions=np.concatenate(points).reshape(-1, width),
-            radii=np.full(sum(lengths), radius_ui, dtype=np.float32),
-            **{name: np.concatenate(values) for name, values in fields.items()},
-        ).partition(lengths),
+        path, indexes=batch.times, columns=archetype.columns(**fields).partition(lengths)
     )
 
 
-def valid_points(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-    """The scan's valid beam indices and their sensor-frame points (m), as the filter sees them."""
-    valid = np.flatnonzero(frame.scan.valid_mask())
-    return valid, frame.scan.points()[valid]
+def _send_scan_points(
+    rec: rr.RecordingStream, path: str, batch: FrameBatch, mask: np.ndarray, **fields: np.ndarray
+) -> None:
+    """The sensor-frame points of the beams in ``mask`` (``(K, n)``), one row per frame."""
+    _send(rec, path, batch, rr.Points2D, mask.sum(axis=1), positions=batch.points[mask], **fields)
 
 
-def log_lidar_hits(rec: rr.RecordingStream, times: Times, frames: Sequence[Frame]) -> None:
+def log_scan_styles(rec: rr.RecordingStream) -> None:
+    """Point sizes and fixed colours of the per-frame entities, once (static).
+
+    A static component holds for every row of its entity, so the per-frame columns carry
+    only what changes; a column less per entity is a good part of a batch's cost.
+    """
+    styles = {
+        paths.LIDAR_HITS: rr.Points3D.from_fields(radii=HIT_RADIUS_UI),
+        paths.SENSOR_LABELS: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
+        paths.SENSOR_DECISION: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
+        paths.SENSOR_REMOVED: rr.Points2D.from_fields(
+            radii=REMOVED_RADIUS_UI, colors=[REMOVED_HALO_COLOR]
+        ),
+        paths.SENSOR_CLUSTERS: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
+        paths.SENSOR_CLUSTER_BOXES: rr.Boxes2D.from_fields(radii=BOX_LINE_RADIUS_UI),
+        paths.SENSOR_CLUSTER_IDS: rr.Points2D.from_fields(radii=CENTROID_RADIUS_UI),
+    }
+    for path, style in styles.items():
+        rec.log(path, style, static=True)
+
+
+def log_lidar_hits(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     """Where each beam really hit, in the world frame, class id = ground-truth label."""
-    hits = [np.isfinite(frame.hit_points_world[:, 0]) for frame in frames]
-    _send_points(
+    hits = np.stack([frame.hit_points_world for frame in batch.frames], dtype=np.float32)
+    hit = np.isfinite(hits[:, :, 0])
+    _send(
         rec,
         paths.LIDAR_HITS,
-        times,
-        [frame.hit_points_world[hit] for frame, hit in zip(frames, hits, strict=True)],
-        HIT_RADIUS_UI,
+        batch,
         rr.Points3D,
-        class_ids=[frame.labels[hit] for frame, hit in zip(frames, hits, strict=True)],
+        hit.sum(axis=1),
+        positions=hits[hit],
+        class_ids=batch.labels[hit],
     )
 
 
-def log_sensor_labels(rec: rr.RecordingStream, times: Times, frames: Sequence[Frame]) -> None:
+def log_sensor_labels(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     """The scan in the sensor frame, class id = ground-truth label of each beam."""
-    valid = [valid_points(frame) for frame in frames]
-    _send_points(
-        rec,
-        paths.SENSOR_LABELS,
-        times,
-        [xy for _, xy in valid],
-        POINT_RADIUS_UI,
-        class_ids=[frame.labels[i] for frame, (i, _) in zip(frames, valid, strict=True)],
-    )
+    valid = batch.valid
+    _send_scan_points(rec, paths.SENSOR_LABELS, batch, valid, class_ids=batch.labels[valid])
 
 
-def log_filter_decisions(
-    rec: rr.RecordingStream, times: Times, frames: Sequence[Frame], results: Sequence[Any]
-) -> None:
+def log_filter_decisions(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     """Per valid beam, the filter's decision against ground truth; and the removed beams.
 
     Args:
         rec: the recording.
-        times: one row per frame (see :func:`~twsb_sim.rerun_log.timelines.frame_times`).
-        frames: consecutive frames.
-        results: the filter's result for each frame (with a boolean ``removed`` mask).
+        batch: frames with a filter result (see :meth:`FrameBatch.with_results`).
     """
-    points, decisions, removed_points = [], [], []
-    for frame, result in zip(frames, results, strict=True):
-        valid, xy = valid_points(frame)
-        removed = np.asarray(result.removed, dtype=bool)[valid]
-        points.append(xy)
-        decisions.append(beam_decisions(frame.labels[valid], removed))
-        removed_points.append(xy[removed])
-    _send_points(rec, paths.SENSOR_DECISION, times, points, POINT_RADIUS_UI, class_ids=decisions)
-    _send_points(
+    valid = batch.valid
+    removed = batch.stack("removed", bool)
+    decisions = beam_decisions(batch.labels[valid], removed[valid])
+    _send_scan_points(rec, paths.SENSOR_DECISION, batch, valid, class_ids=decisions)
+    _send_scan_points(rec, paths.SENSOR_REMOVED, batch, valid & removed)
+
+
+def _removed_cluster_labels(ids: np.ndarray, p_pv: np.ndarray, detected: np.ndarray) -> list[str]:
+    """``#id P=P(C_pv) detected|tracked`` for each removed cluster."""
+    return [
+        f"#{k} P={'-' if np.isnan(p) else f'{p:.2f}'} {'detected' if d else 'tracked'}"
+        for k, p, d in zip(ids.tolist(), p_pv.tolist(), detected.tolist(), strict=True)
+    ]
+
+
+def log_clusters(rec: rr.RecordingStream, batch: FrameBatch) -> None:
+    """Clustered points, class id = cluster id; a box and a label per removed cluster.
+
+    Each cluster's points take its id's colour (and ``cluster #id`` on hover) from the
+    annotation context of :data:`paths.SENSOR_CLUSTERS`. The clusters the filter removed
+    get a box, red when detected in this scan and orange when tracked from the last one,
+    and a label at the centroid (``#id P=P(C_pv) detected|tracked``; box labels would be
+    misplaced by the sensor view's turned frame). Cluster ``k`` of a frame is
+    ``result.clusters[k]``; this reads the same values from the result's per-cluster
+    arrays (``detection``, ``tracked``), all frames at once.
+
+    Args:
+        rec: the recording.
+        batch: frames whose result has clusters (see :meth:`FrameBatch.with_results`).
+    """
+    detections = [result.detection for result in batch.results]
+    ids = np.stack([d.clusters.labels for d in detections])  # (K, n), -1: no cluster
+    clustered = ids >= 0
+    _send_scan_points(rec, paths.SENSOR_CLUSTERS, batch, clustered, class_ids=ids[clustered])
+    # the removed clusters of the batch, numbered across frames
+    counts = np.array([len(d.p_pv) for d in detections])
+    detected = np.concatenate([d.detected for d in detections]).astype(bool)
+    tracked = np.concatenate([np.asarray(r.tracked, bool) for r in batch.results])
+    removed = np.flatnonzero(detected | tracked)
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    frame_of = np.searchsorted(first, removed, side="right") - 1
+    per_frame = np.bincount(frame_of, minlength=len(batch))
+    # their bounds: the points of removed clusters, grouped by cluster
+    is_removed = np.zeros(counts.sum() + 1, dtype=bool)  # the last entry: "no cluster"
+    is_removed[removed] = True
+    batch_ids = np.where(clustered, ids + first[:, None], -1)
+    in_removed = is_removed[batch_ids]
+    xy, owner = batch.points[in_removed], batch_ids[in_removed]
+    order = np.argsort(owner, kind="stable")
+    starts = np.flatnonzero(np.diff(owner[order], prepend=-1))
+    low = np.minimum.reduceat(xy[order], starts, axis=0) if len(xy) else np.empty((0, 2))
+    high = np.maximum.reduceat(xy[order], starts, axis=0) if len(xy) else np.empty((0, 2))
+    colors = np.where(detected[removed], _STATE_COLORS[0], _STATE_COLORS[1])
+    _send(
         rec,
-        paths.SENSOR_REMOVED,
-        times,
-        removed_points,
-        REMOVED_RADIUS_UI,
-        colors=[np.tile(REMOVED_HALO_COLOR, (len(xy), 1)) for xy in removed_points],
-    )
-
-
-def _box_color(record: Any) -> tuple[int, int, int]:
-    if record.detected:
-        return DETECTED_COLOR
-    return TRACKED_COLOR if record.tracked else KEPT_CLUSTER_COLOR
-
-
-def _cluster_label(k: int, record: Any) -> str:
-    """``#id``, and for a removed cluster its P(C_pv) and whether detected or tracked."""
-    if not record.removed:
-        return f"#{k}"
-    p_pv = "-" if np.isnan(record.p_pv) else f"{record.p_pv:.2f}"
-    return f"#{k} P={p_pv} {'detected' if record.detected else 'tracked'}"
-
-
-def log_clusters(
-    rec: rr.RecordingStream, times: Times, frames: Sequence[Frame], results: Sequence[Any]
-) -> None:
-    """Clustered points, one colour per cluster id; a box and a label per cluster.
-
-    Boxes are red for clusters detected in this scan, orange for tracked ones, grey for
-    kept ones. Labels sit at the centroids (``#id``, plus ``P(C_pv)`` and the state of
-    removed clusters); box labels would be misplaced by the view's turned frame.
-    """
-    points, colors, bounds, box_colors, centroids, labels = [], [], [], [], [], []
-    for frame, result in zip(frames, results, strict=True):
-        xy_all = frame.scan.points()
-        clusters = [xy_all[record.indices] for record in result.clusters]
-        points.append(_concat(clusters, 2, np.float64))
-        colors.append(
-            _concat(
-                [np.repeat(CLUSTER_PALETTE[[k % len(CLUSTER_PALETTE)]], len(xy), axis=0)
-                 for k, xy in enumerate(clusters)],
-                3,
-                np.uint8,
-            )
-        )  # fmt: skip
-        low = np.array([xy.min(axis=0) for xy in clusters]).reshape(-1, 2) - CLUSTER_BOX_PAD_M
-        high = np.array([xy.max(axis=0) for xy in clusters]).reshape(-1, 2) + CLUSTER_BOX_PAD_M
-        bounds.append((low, high))
-        box_colors.append(
-            np.array([_box_color(r) for r in result.clusters], np.uint8).reshape(-1, 3)
-        )
-        centroids.append(np.array([r.centroid for r in result.clusters]).reshape(-1, 2))
-        labels.append([_cluster_label(k, r) for k, r in enumerate(result.clusters)])
-    _send_points(rec, paths.SENSOR_CLUSTERS, times, points, POINT_RADIUS_UI, colors=colors)
-    counts = [len(c) for c in centroids]
-    all_colors = np.concatenate(box_colors)
-    rec.send_columns(
         paths.SENSOR_CLUSTER_BOXES,
-        indexes=times,
-        columns=rr.Boxes2D.columns(
-            centers=np.concatenate([(low + high) / 2 for low, high in bounds]),
-            half_sizes=np.concatenate([(high - low) / 2 for low, high in bounds]),
-            colors=all_colors,
-            radii=np.full(len(all_colors), BOX_LINE_RADIUS_UI, dtype=np.float32),
-        ).partition(counts),
+        batch,
+        rr.Boxes2D,
+        per_frame,
+        centers=(low + high) / 2,
+        half_sizes=(high - low) / 2 + CLUSTER_BOX_PAD_M,
+        colors=colors,
     )
-    _send_points(
+    centroids = np.concatenate([d.clusters.centroids for d in detections]).reshape(-1, 2)
+    p_pv = np.concatenate([d.p_pv for d in detections])
+    _send(
         rec,
         paths.SENSOR_CLUSTER_IDS,
-        times,
-        centroids,
-        CENTROID_RADIUS_UI,
-        colors=box_colors,
-        labels=[np.array(row, dtype=str) for row in labels],
+        batch,
+        rr.Points2D,
+        per_frame,
+        positions=centroids[removed],
+        colors=colors,
+        labels=_removed_cluster_labels(removed - first[frame_of], p_pv[removed], detected[removed]),
     )
-
-
-def _concat(parts: list[np.ndarray], width: int, dtype: type) -> np.ndarray:
-    """Rows of all parts stacked, ``(0, width)`` when there are none."""
-    return np.concatenate(parts).astype(dtype) if parts else np.empty((0, width), dtype)
