@@ -64,6 +64,12 @@ def _seed32(sequence: np.random.SeedSequence) -> int:
     return int(sequence.generate_state(1, np.uint32)[0])
 
 
+def planned_duration_s(seed: int, episode: int, ranges: Randomization) -> float:
+    """How long episode ``episode`` lasts (s), without drawing the rest of it."""
+    motion_seq = episode_seed_sequence(seed, episode).spawn(4)[2]
+    return round(_uniform(np.random.default_rng(motion_seq), ranges.episode.duration_s), 1)
+
+
 def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
     """Draw house, start, robot and timeline of episode ``episode`` (no simulation)."""
     house_seq, robot_seq, motion_seq, run_seq = episode_seed_sequence(seed, episode).spawn(4)
@@ -96,7 +102,7 @@ def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
     log_low, log_high = (math.log(v) for v in r.aggressiveness)
     aggressiveness = round(math.exp(_uniform(robot_rng, (log_low, log_high), digits=12)), 4)
 
-    duration = round(_uniform(np.random.default_rng(motion_seq), ranges.episode.duration_s), 1)
+    duration = planned_duration_s(seed, episode, ranges)
     plan = plan_motion(
         np.random.default_rng(motion_seq.spawn(1)[0]),
         lane,

@@ -27,7 +27,7 @@ from typing import Any
 import mujoco
 from tqdm import tqdm
 
-from twsb_sim.dataset.episode import run_episode
+from twsb_sim.dataset.episode import planned_duration_s, run_episode
 from twsb_sim.dataset.randomization import Randomization
 from twsb_sim.dataset.schema import FORMAT_VERSION
 from twsb_sim.dataset.store import (
@@ -132,6 +132,8 @@ def generate(
     done = finished_episodes(root)
     summaries = {k: read_summary(path) for k, path in done.items()}
     pending = [k for k in range(episodes) if k not in done]
+    # longest first: the last tasks are short, so workers run out of work together
+    pending.sort(key=lambda k: -planned_duration_s(settings.seed, k, settings.randomization))
     workers = max(1, min(workers or default_workers(), len(pending) or 1))
     started = time.perf_counter()
     report = GenerationReport(len(done), 0, episodes - len(pending), 0, 0, 0.0)
