@@ -25,6 +25,7 @@ from twsb_sim.slam.systems import SYSTEM_TITLES
 METHOD_COLORS = {
     "none": "tab:red",
     "pvf": "tab:blue",
+    "pvf_p04": "tab:purple",
     "imu_gate": "tab:orange",
     "truth_labels": "tab:green",
 }
@@ -106,7 +107,7 @@ def draw_maps(outcome: SequenceOutcome, path: Path, methods: tuple[str, ...] | N
     """
     systems = sorted({s for s, _ in outcome.runs}, key=list(SYSTEM_TITLES).index)
     methods = methods or tuple(dict.fromkeys(m for _, m in outcome.runs))
-    fig = Figure(figsize=(4.8 * len(methods), 4.4 * len(systems)))
+    fig = Figure(figsize=(4.8 * len(methods), 4.4 * len(systems)), layout="constrained")
     axes = fig.subplots(len(systems), len(methods), squeeze=False)
     x_min, y_min, x_max, y_max = outcome.sequence.house.extent_m
     for row, system in enumerate(systems):
@@ -132,7 +133,6 @@ def draw_maps(outcome: SequenceOutcome, path: Path, methods: tuple[str, ...] | N
             ax.set_aspect("equal")
             ax.tick_params(labelsize=7)
     fig.suptitle(f"{outcome.sequence.name}, seed {outcome.seed}", fontsize=10)
-    fig.tight_layout()
     fig.savefig(path, dpi=DPI, bbox_inches="tight")
 
 
@@ -141,12 +141,14 @@ def _draw_trajectories(
 ) -> None:
     ax.plot(*outcome.truth[:, :2].T, color="k", lw=1.0, ls="--", label="truth (sensor)")
     for method in methods:
-        run = outcome.runs[system, method]
+        run, result = outcome.runs[system, method], outcome.results[system, method]
         alignment = _alignment(outcome, system, method)
         if alignment is None:
             continue
         aligned = transform_points(run.poses[:, :2], alignment)
-        ax.plot(*aligned.T, color=METHOD_COLORS[method], lw=0.9, label=METHOD_TITLES[method])
+        ate = "–" if result.failed else f"{result.ate_m:.3f} m"
+        label = f"{METHOD_TITLES[method]}: {ate}"
+        ax.plot(*aligned.T, color=METHOD_COLORS[method], lw=0.9, label=label)
 
 
 def draw_trajectories(outcome: SequenceOutcome, path: Path) -> None:
@@ -154,7 +156,7 @@ def draw_trajectories(outcome: SequenceOutcome, path: Path) -> None:
     and below it the position error over time (the dotted line is the failure threshold)."""
     systems = sorted({s for s, _ in outcome.runs}, key=list(SYSTEM_TITLES).index)
     methods = tuple(dict.fromkeys(m for _, m in outcome.runs))
-    fig = Figure(figsize=(5.2 * len(systems), 6.6))
+    fig = Figure(figsize=(5.2 * len(systems), 6.6), layout="constrained")
     axes = fig.subplots(2, len(systems), squeeze=False, height_ratios=(2.2, 1.0))
     stamps = np.array([f.stamp_s for f in outcome.frames])
     for ax, system in zip(axes[1], systems, strict=True):
@@ -171,12 +173,7 @@ def draw_trajectories(outcome: SequenceOutcome, path: Path) -> None:
     for ax, system in zip(axes[0], systems, strict=True):
         draw_house(ax, outcome.sequence.house)
         _draw_trajectories(ax, outcome, system, methods)
-        lines = [
-            f"{METHOD_TITLES[m]}: " + ("–" if r.failed else f"{r.ate_m:.3f} m")
-            for m in methods
-            for r in [outcome.results[system, m]]
-        ]
-        ax.set_title(f"{SYSTEM_TITLES[system]}   ATE " + ", ".join(lines), fontsize=7)
+        ax.set_title(f"{SYSTEM_TITLES[system]} (legend: ATE, – = tracking failure)", fontsize=8)
         ax.set_aspect("equal")
         ax.legend(fontsize=7, loc="best")
         ax.tick_params(labelsize=7)
@@ -186,7 +183,6 @@ def draw_trajectories(outcome: SequenceOutcome, path: Path) -> None:
         "ATE's SE(2) alignment",
         fontsize=9,
     )
-    fig.tight_layout()
     fig.savefig(path, dpi=DPI * 1.3, bbox_inches="tight")
 
 

@@ -6,7 +6,7 @@ Entity paths: ``world/house/...`` (as ``twsb run`` records it), ``world/truth``,
 ``world/slam/hector/<filter>/scan`` (the scan used, placed at the estimate) with
 ``.../removed`` (what the filter took out). Everything is in the world frame after the
 ATE's SE(2) alignment; per-scan entities are on the ``sim_time`` and ``frame`` timelines.
-One 3D view per filter.
+One top-down view per filter.
 """
 
 from __future__ import annotations
@@ -22,19 +22,19 @@ from twsb_sim.rerun_log.geometry import log_house
 from twsb_sim.rerun_log.timelines import frame_times
 from twsb_sim.slam.experiment import SequenceOutcome
 from twsb_sim.slam.methods import METHOD_TITLES
+from twsb_sim.slam.systems import SYSTEMS
 
 TRUTH = "world/truth"
 SLAM = "world/slam"
 LINE_RADIUS_UI = -1.5  # negative radii are in UI points
-POINT_RADIUS_UI = -1.5
+POINT_RADIUS_UI = -0.75
+POSE_RADIUS_UI = -4.0
 MAP_OCCUPIED_PROBABILITY = 0.65  # grid cells drawn as map points from this probability
 MAP_Z_M = 0.02  # m: maps and trajectories float just above the floor
-COLORS = {
-    "none": (230, 70, 60),
-    "pvf": (60, 130, 230),
-    "imu_gate": (240, 160, 40),
-    "truth_labels": (70, 190, 90),
-}
+# one view per filter, so colours tell the systems apart
+SYSTEM_COLORS = {"hector": (90, 170, 255), "kiss_icp": (255, 150, 60)}
+TRUTH_COLOR = (80, 220, 120)
+SCAN_COLOR = (235, 235, 235)
 REMOVED_COLOR = (255, 0, 255)
 
 
@@ -64,7 +64,7 @@ def log_system(rec: rr.RecordingStream, outcome: SequenceOutcome, system: str, m
     if not np.all(np.isfinite(alignment)):
         return
     path = f"{SLAM}/{system}/{method}"
-    color = COLORS[method]
+    color = SYSTEM_COLORS[system]
     finite = np.all(np.isfinite(run.poses), axis=1)
     xy = transform_points(run.poses[finite, :2], alignment)
     rec.log(
@@ -79,7 +79,7 @@ def log_system(rec: rr.RecordingStream, outcome: SequenceOutcome, system: str, m
         columns=rr.Points3D.columns(
             positions=_on_floor(xy),
             colors=np.tile(color, (len(xy), 1)),
-            radii=np.full(len(xy), -5.0, np.float32),
+            radii=np.full(len(xy), POSE_RADIUS_UI, np.float32),
         ),
     )
     rec.log(f"{path}/map", _map_points(outcome, system, method, alignment), static=True)
@@ -104,7 +104,7 @@ def _map_points(
         xy = np.concatenate(chunks) if chunks else np.zeros((0, 2))
         xy = np.unique(np.round(xy / 0.05), axis=0) * 0.05
     xy = transform_points(xy, alignment)
-    return rr.Points3D(_on_floor(xy), colors=COLORS[method], radii=POINT_RADIUS_UI)
+    return rr.Points3D(_on_floor(xy), colors=SYSTEM_COLORS[system], radii=POINT_RADIUS_UI)
 
 
 def log_scans(rec: rr.RecordingStream, outcome: SequenceOutcome, method: str) -> None:
@@ -129,7 +129,7 @@ def log_scans(rec: rr.RecordingStream, outcome: SequenceOutcome, method: str) ->
         return
     times = _times(frames)
     for name, chunks, lengths, color in (
-        ("scan", kept, kept_n, COLORS[method]),
+        ("scan", kept, kept_n, SCAN_COLOR),
         ("removed", removed, removed_n, REMOVED_COLOR),
     ):
         points = _on_floor(np.concatenate(chunks))
@@ -144,26 +144,47 @@ def log_scans(rec: rr.RecordingStream, outcome: SequenceOutcome, method: str) ->
         )
 
 
-def blueprint(methods: list[str]) -> rrb.Blueprint:
-    """One 3D view per filter: the house, the truth, and both systems with that filter."""
+def blueprint(
+    methods: list[str], house_extent_m: tuple[float, float, float, float]
+) -> rrb.Blueprint:
+    """One top-down 3D view per filter: the walls, the truth, and both systems with that
+    filter; the time cursor follows the end of the recording (the finished maps)."""
+    x_min, y_min, x_max, y_max = house_extent_m
+    centre = (0.5 * (x_min + x_max), 0.5 * (y_min + y_max))
+    height = 1.4 * max(x_max - x_min, y_max - y_min)
+    eye = rrb.EyeControls3D(
+        kind=rrb.Eye3DKind.Orbital,
+        position=(centre[0], centre[1] - 0.05 * height, height),  # nearly straight down
+        look_target=(centre[0], centre[1], 0.0),
+        eye_up=(0.0, 0.0, 1.0),
+    )
     views = [
         rrb.Spatial3DView(
             name=METHOD_TITLES[method],
             origin="world",
-            contents=["+ world/house/**", f"+ {TRUTH}/**", f"+ {SLAM}/*/{method}/**"],
-            overrides={"world/house/ceiling": rrb.EntityBehavior(visible=False)},
+            contents=[
+                "+ world/house/walls",
+                f"+ {TRUTH}/**",
+                *(f"+ {SLAM}/{system}/{method}/**" for system in SYSTEMS),
+            ],
             background=(30, 30, 34),
+            line_grid=rrb.LineGrid3D(visible=False),
+            eye_controls=eye,
         )
         for method in methods
     ]
-    return rrb.Blueprint(rrb.Grid(*views), collapse_panels=True)
+    return rrb.Blueprint(
+        rrb.Grid(*views),
+        rrb.TimePanel(timeline="frame", play_state="following"),
+        collapse_panels=True,
+    )
 
 
 def record_sequence(outcome: SequenceOutcome, path: Path) -> None:
     """Write the recording of one sequence's runs to ``path`` (``.rrd``)."""
     methods = list(dict.fromkeys(m for _, m in outcome.runs))
     rec = rr.RecordingStream("twsb_slam", recording_id=f"{outcome.sequence.name}-{outcome.seed}")
-    rec.save(path, default_blueprint=blueprint(methods))
+    rec.save(path, default_blueprint=blueprint(methods, outcome.sequence.house.extent_m))
     log_house(rec, outcome.sequence.house)
     log_truth(rec, outcome)
     for system, method in outcome.runs:
