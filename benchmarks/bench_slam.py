@@ -6,9 +6,10 @@ turns, one hard stop), simulated once before timing.
 Prints scans/s of the Hector-style SLAM (default parameters: 3 map levels, 5 cm finest
 cells), the split of its time between scan matching and map updates, the PVF followed by
 the SLAM (the whole pipeline a robot would run), and KISS-ICP on one thread when it is
-installed; and the ATE of each run as a check that the measured loop does its job.
+installed; and the ATE of each run as a check that the measured loop does its job. The
+loops run interleaved, ``--repeats`` rounds; median and best scans/s per loop.
 
-    python benchmarks/bench_slam.py [--repeats 3]
+    python benchmarks/bench_slam.py [--repeats 5]
 """
 
 from __future__ import annotations
@@ -27,16 +28,6 @@ from twsb_sim.evaluation.methods import sensor_pose_2d
 from twsb_sim.slam.recording import record_frames
 from twsb_sim.slam.sequences import shipped_sequence
 from twsb_sim.slam.systems import available_systems, make_system
-
-
-def timed(run, repeats: int) -> tuple[float, float, np.ndarray]:
-    """Median and best seconds of ``run()`` over ``repeats`` runs, and its last poses."""
-    times, poses = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        poses = run()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), min(times), poses
 
 
 def slam_loop(system: str, scans: list, range_max_m: float, with_pvf: bool = False):
@@ -76,7 +67,7 @@ def hector_split(scans: list) -> tuple[float, float, int]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
 
     frames, _ = record_frames(shipped_sequence("house1_single").scenario, seed=0)
@@ -91,11 +82,20 @@ def main() -> None:
     rows = [("Hector-style SLAM", "hector", False), ("PVF + Hector-style SLAM", "hector", True)]
     if "kiss_icp" in available_systems():
         rows += [("KISS-ICP (1 thread)", "kiss_icp", False), ("PVF + KISS-ICP", "kiss_icp", True)]
+    # interleaved: every loop runs once per round, so all see the same machine load
+    loops = [slam_loop(system, scans, range_max, with_pvf) for _, system, with_pvf in rows]
+    seconds: list[list[float]] = [[] for _ in rows]
+    poses: list[np.ndarray] = [np.zeros(0)] * len(rows)
+    for _ in range(args.repeats):
+        for k, run in enumerate(loops):
+            start = time.perf_counter()
+            poses[k] = run()
+            seconds[k].append(time.perf_counter() - start)
     print(f"{'loop':<26}{'scans/s median':>16}{'best':>8}{'ATE m':>9}")
-    for title, system, with_pvf in rows:
-        median_s, best_s, poses = timed(slam_loop(system, scans, range_max, with_pvf), args.repeats)
-        ate = score_trajectory(poses, truth).rmse_m
-        print(f"{title:<26}{len(scans) / median_s:>16.0f}{len(scans) / best_s:>8.0f}{ate:>9.4f}")
+    for (title, _, _), times, estimate in zip(rows, seconds, poses, strict=True):
+        ate = score_trajectory(estimate, truth).rmse_m
+        median, best = statistics.median(times), min(times)
+        print(f"{title:<26}{len(scans) / median:>16.0f}{len(scans) / best:>8.0f}{ate:>9.4f}")
     match_ms, update_ms, updates = hector_split(scans)
     print(
         f"\nHector-style SLAM: matching {match_ms:.2f} ms per scan (3 levels, coarse to fine); "
