@@ -37,8 +37,8 @@ def slam_loop(system: str, scans: list, range_max_m: float, with_pvf: bool = Fal
         poses = []
         for scan in scans:
             removed = pvf.process(scan).removed if pvf is not None else None
-            update = slam.process_scan(scan, removed)
-            poses.append(update.pose if hasattr(update, "pose") else update)
+            slam.process_scan(scan, removed)
+            poses.append(slam.pose.copy())
         return np.array(poses)
 
     return run
