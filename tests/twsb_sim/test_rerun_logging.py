@@ -24,6 +24,7 @@ from twsb_sim.rerun_log import (
     paths,
     rerun_sink,
 )
+from twsb_sim.rerun_log.events import SHOVE_ARROW_M_PER_N
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import load_scenario
 from twsb_sim.sinks import NullSink
@@ -233,7 +234,9 @@ def test_shove_shows_as_an_arrow_while_it_acts(tmp_path):
     arrows = entity_rows(path, paths.SHOVES, "Arrows3D:vectors")
     assert list(arrows) == [round(shove.t_s * 10)]  # at the frame the shove starts
     (vector,) = arrows[round(shove.t_s * 10)]
-    assert np.linalg.norm(vector) == pytest.approx(np.linalg.norm(shove.force_n) * 0.01, rel=1e-5)
+    assert np.linalg.norm(vector) == pytest.approx(
+        np.linalg.norm(shove.force_n) * SHOVE_ARROW_M_PER_N, rel=1e-5
+    )
     cleared = entity_rows(path, paths.SHOVES, "Clear:is_recursive")
     assert list(cleared) == [math.ceil(shove.end_s * 10)]  # the first frame after it ends
     events = entity_rows(path, paths.EVENTS, "TextLog:text")

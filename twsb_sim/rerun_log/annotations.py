@@ -49,11 +49,12 @@ def packed_colors(colors: np.ndarray) -> np.ndarray:
     return (colors[:, 0] << 24) | (colors[:, 1] << 16) | (colors[:, 2] << 8) | alpha
 
 
-# one colour per cluster id (cycled): distinct hues, none grey
+# one colour per cluster id (cycled): distinct hues, none grey, and none of the
+# decision colours (green, red, magenta) or the box colours (red, orange)
 CLUSTER_PALETTE = np.array(
     [
-        (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
-        (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (255, 187, 120),
+        (31, 119, 180), (23, 190, 207), (148, 103, 189), (188, 189, 34), (227, 119, 194),
+        (140, 86, 75), (174, 199, 232), (255, 230, 120), (120, 120, 220), (158, 218, 229),
     ],
     dtype=np.uint8,
 )  # fmt: skip
@@ -62,6 +63,7 @@ TRACKED_COLOR = (255, 165, 0)  # a queued cluster followed from the last scan (A
 MAX_CLUSTER_CLASSES = 128  # cluster ids with a colour and a name (Table I's m_th allows 72)
 
 
+@functools.cache  # annotation contexts take milliseconds to build: once per process
 def label_annotation_context() -> rr.AnnotationContext:
     """Class id = :class:`BeamLabel` code, with its name and colour."""
     return rr.AnnotationContext(
@@ -69,7 +71,7 @@ def label_annotation_context() -> rr.AnnotationContext:
     )
 
 
-@functools.cache  # building it takes milliseconds: once per process
+@functools.cache
 def cluster_annotation_context() -> rr.AnnotationContext:
     """Class id = cluster id within its scan: ``cluster #id``, palette colours cycled."""
     return rr.AnnotationContext(
@@ -80,6 +82,7 @@ def cluster_annotation_context() -> rr.AnnotationContext:
     )
 
 
+@functools.cache
 def decision_annotation_context() -> rr.AnnotationContext:
     """Class id = :class:`BeamDecision`, named "true positive", ... ."""
     return rr.AnnotationContext(
@@ -113,3 +116,19 @@ def beam_decisions(labels: np.ndarray, removed: np.ndarray) -> np.ndarray:
     removed = np.asarray(removed, dtype=bool)
     wrong = pitch_variation_mask(labels) != removed
     return _DECISION_TABLE[removed.astype(np.intp) + 2 * wrong]
+
+
+LEGEND = """\
+**Decision**: *green* true positive (removed, pitch-variation point), *red* false
+positive, *magenta* false negative (kept, pitch-variation point), *grey* true negative;
+white halo: removed. **Boxes**: removed clusters, *red* detected in this scan, *orange*
+tracked from the last one, labelled with id and P(C_pv). **Clusters**: a colour each.
+**3D**: hits by label: floor *orange*, ceiling *blue*, table tops *yellow*, walls
+*grey-blue*; white line: trajectory; blue disc: scan plane; red arrow: shove.
+Hover a point for its class.
+"""
+
+
+def legend() -> rr.TextDocument:
+    """What the colours of the default views mean (a markdown document)."""
+    return rr.TextDocument(LEGEND, media_type=rr.MediaType.MARKDOWN)

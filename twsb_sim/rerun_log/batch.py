@@ -103,10 +103,17 @@ class FrameBatch:
 
     def stack(self, name: str, dtype: type | None = None) -> np.ndarray:
         """One attribute of every filter result, stacked (e.g. ``removed``: ``(K, n)``)."""
-        return np.stack([np.asarray(getattr(r, name), dtype=dtype) for r in self.results])
+        stacks = self.__dict__.setdefault("_stacks", {})  # several loggers ask for the same
+        if (name, dtype) not in stacks:
+            stacks[name, dtype] = np.stack(
+                [np.asarray(getattr(r, name), dtype=dtype) for r in self.results]
+            )
+        return stacks[name, dtype]
 
     def subset(self, keep: list[int]) -> FrameBatch:
         """The frames at positions ``keep``."""
+        if len(keep) == len(self):  # positions are ascending: all of them
+            return self
         return FrameBatch(
             stamps_s=self.stamps_s[keep],
             indices=self.indices[keep],

@@ -135,7 +135,13 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
                 clusters,
                 column_shares=[4, 3, 3],
             ),
-            rrb.Horizontal(plots, _events_view(), column_shares=[5, 1]),
+            rrb.Horizontal(
+                plots,
+                rrb.Vertical(
+                    rrb.TextDocumentView(name="Legend", origin=paths.LEGEND), _events_view()
+                ),
+                column_shares=[3, 1],
+            ),
             row_shares=[3, 2],
         ),
         rrb.TimePanel(timeline="sim_time", state="collapsed"),

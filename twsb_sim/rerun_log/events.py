@@ -14,7 +14,7 @@ import rerun as rr
 from twsb_sim.rerun_log import paths
 from twsb_sim.rerun_log.timelines import frame_times, set_time
 
-SHOVE_ARROW_M_PER_N = 0.01  # a 40 N push draws a 0.4 m arrow
+SHOVE_ARROW_M_PER_N = 0.02  # a 40 N push draws a 0.8 m arrow
 SHOVE_COLOR = (255, 60, 60)
 
 
@@ -64,7 +64,7 @@ def log_shove(
             origins=[point_world_m - force_world_n * SHOVE_ARROW_M_PER_N],  # the arrow ends at it
             vectors=[force_world_n * SHOVE_ARROW_M_PER_N],
             colors=[SHOVE_COLOR],
-            radii=[0.015],
+            radii=[0.02],
             labels=[label],
             show_labels=True,
         ),

@@ -147,7 +147,7 @@ def log_robot_body(
         rr.Cylinders3D(
             lengths=[0.0],
             radii=[SCAN_PLANE_RADIUS_M],
-            colors=[(80, 160, 255, 50)],
+            colors=[(80, 160, 255, 35)],
             fill_mode="solid",
             labels=["scan plane"],
             show_labels=False,

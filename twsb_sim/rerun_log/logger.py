@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -22,6 +23,7 @@ from twsb_sim.rerun_log.annotations import (
     cluster_annotation_context,
     decision_annotation_context,
     label_annotation_context,
+    legend,
 )
 from twsb_sim.rerun_log.batch import FrameBatch
 from twsb_sim.rerun_log.blueprint import default_blueprint
@@ -120,6 +122,7 @@ class RerunLogger:
         rec.log("/", label_annotation_context(), static=True)
         rec.log(paths.SENSOR_DECISION, decision_annotation_context(), static=True)
         rec.log(paths.SENSOR_CLUSTERS, cluster_annotation_context(), static=True)
+        rec.log(paths.LEGEND, legend(), static=True)
         log_house(rec, sim.house)
         log_robot_body(rec, sim.model, sim.handles.base_body_id, sim.handles.lidar_site_id)
         log_sensor_view_frame(rec, sim.lidar.range_max)
@@ -152,10 +155,13 @@ class RerunLogger:
         t_s = self._sim.time_s if self._sim is not None else summary.simulated_s
         self._event(t_s, f"ended: {summary.end_reason}", frame=max(self._next_frame() - 1, 0))
         self.flush()
-        if self.close_recording:
-            self.rec.disconnect()  # flushes, and finishes an .rrd file
-        else:
-            self.rec.flush()
+        try:
+            if self.close_recording:
+                self.rec.disconnect()  # flushes, and finishes an .rrd file
+            else:
+                self.rec.flush()
+        except RuntimeError as error:  # a sink that failed (e.g. its port was taken)
+            warnings.warn(f"the Rerun recording is incomplete: {error}", stacklevel=2)
 
     # -- batches --------------------------------------------------------------------------
 

@@ -43,3 +43,4 @@ PLOT_PRECISION_RECALL = "plots/precision_recall"  # per frame
 PLOT_P_PV = "plots/p_pv"  # max P(C_pv) over the frame's clusters, and P_th
 
 EVENTS = "events"  # TextLog: phases, shoves, falls
+LEGEND = "legend"  # TextDocument: what the colours mean

@@ -20,10 +20,13 @@ from twsb_sim.rerun_log.annotations import (
 )
 from twsb_sim.rerun_log.batch import FrameBatch
 
-POINT_RADIUS_UI = -2.5  # negative radii are in UI points: the same size at any zoom
+POINT_RADIUS_UI = -3.0  # negative radii are in UI points: the same size at any zoom
 HIT_RADIUS_UI = -2.5
 REMOVED_RADIUS_UI = -4.5
-REMOVED_HALO_COLOR = (255, 255, 255, 90)  # drawn under the decision dots
+REMOVED_HALO_COLOR = (255, 255, 255, 110)
+HALO_DRAW_ORDER = 30.0  # 2D draw order: halos under the scan's dots, labels on top
+DOT_DRAW_ORDER = 40.0
+LABEL_DRAW_ORDER = 50.0
 CLUSTER_BOX_PAD_M = 0.05
 BOX_LINE_RADIUS_UI = -1.0
 CENTROID_RADIUS_UI = -1.5
@@ -59,14 +62,22 @@ def log_scan_styles(rec: rr.RecordingStream) -> None:
     """
     styles = {
         paths.LIDAR_HITS: rr.Points3D.from_fields(radii=HIT_RADIUS_UI),
-        paths.SENSOR_LABELS: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
-        paths.SENSOR_DECISION: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
-        paths.SENSOR_REMOVED: rr.Points2D.from_fields(
-            radii=REMOVED_RADIUS_UI, colors=[REMOVED_HALO_COLOR]
+        paths.SENSOR_LABELS: rr.Points2D.from_fields(
+            radii=POINT_RADIUS_UI, draw_order=DOT_DRAW_ORDER
         ),
-        paths.SENSOR_CLUSTERS: rr.Points2D.from_fields(radii=POINT_RADIUS_UI),
+        paths.SENSOR_DECISION: rr.Points2D.from_fields(
+            radii=POINT_RADIUS_UI, draw_order=DOT_DRAW_ORDER
+        ),
+        paths.SENSOR_REMOVED: rr.Points2D.from_fields(
+            radii=REMOVED_RADIUS_UI, colors=[REMOVED_HALO_COLOR], draw_order=HALO_DRAW_ORDER
+        ),
+        paths.SENSOR_CLUSTERS: rr.Points2D.from_fields(
+            radii=POINT_RADIUS_UI, draw_order=DOT_DRAW_ORDER
+        ),
         paths.SENSOR_CLUSTER_BOXES: rr.Boxes2D.from_fields(radii=BOX_LINE_RADIUS_UI),
-        paths.SENSOR_CLUSTER_IDS: rr.Points2D.from_fields(radii=CENTROID_RADIUS_UI),
+        paths.SENSOR_CLUSTER_IDS: rr.Points2D.from_fields(
+            radii=CENTROID_RADIUS_UI, draw_order=LABEL_DRAW_ORDER
+        ),
     }
     for path, style in styles.items():
         rec.log(path, style, static=True)
