@@ -243,6 +243,30 @@ def test_shove_shows_as_an_arrow_while_it_acts(tmp_path):
     assert events[round(shove.t_s * 10)][0].startswith("shove")
 
 
+def test_runs_logged_one_after_the_other_follow_each_other_on_the_timelines(tmp_path):
+    rec = rr.RecordingStream(APPLICATION_ID)
+    rec.save(tmp_path / "two.rrd")
+    logger = RerunLogger(rec)  # e.g. the episodes of an env
+    scenario = shortened("hard_stop", 1.0)
+    for _ in range(2):
+        run_scenario(scenario, seed=0, scan_filter=PitchVariationFilter(), sinks=[logger])
+    rec.disconnect()
+    times = {}
+    for chunk in RrdReader(tmp_path / "two.rrd").stream().to_chunks():
+        if chunk.entity_path == "/" + paths.SENSOR_DECISION and not chunk.is_static:
+            batch = chunk.to_record_batch()
+            times.update(
+                zip(
+                    batch.column("frame").to_pylist(),
+                    batch.column("sim_time").to_pylist(),
+                    strict=True,
+                )
+            )
+    assert sorted(times) == list(range(22))  # 11 frames per run
+    stamps = [times[k].total_seconds() for k in sorted(times)]
+    assert np.all(np.diff(stamps) > 0)
+
+
 def test_beam_decisions_are_the_four_classes():
     labels = np.array([BeamLabel.STATIC, BeamLabel.FLOOR, BeamLabel.STATIC, BeamLabel.CEILING])
     removed = np.array([False, True, True, False])
