@@ -8,13 +8,17 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import mujoco
 import numpy as np
 import rerun as rr
 
+from twsb_sim.frame import RobotTruth
 from twsb_sim.rerun_log import paths
 from twsb_sim.rerun_log.timelines import frame_times, set_time
+from twsb_sim.timeline import Shove, heading_force_to_world
 
 SHOVE_ARROW_M_PER_N = 0.02  # a 40 N push draws a 0.8 m arrow
+SHOVE_ARROW_RADIUS_M = 0.02
 SHOVE_COLOR = (255, 60, 60)
 
 
@@ -38,6 +42,14 @@ def log_events(
     )
 
 
+def shove_in_world(shove: Shove, truth: RobotTruth) -> tuple[np.ndarray, np.ndarray]:
+    """Where a scenario's shove pushes (m) and with what force (N), world frame, now."""
+    rotation = np.empty(9)
+    mujoco.mju_quat2Mat(rotation, truth.quat_base_in_world)
+    point = truth.position_base_in_world + rotation.reshape(3, 3) @ np.array(shove.point_m)
+    return point, heading_force_to_world(shove.force_n, truth.yaw_rad)
+
+
 def log_shove(
     rec: rr.RecordingStream,
     start: tuple[float, int],
@@ -55,7 +67,7 @@ def log_shove(
             after the start's so that the arrow shows on the ``frame`` timeline too.
         point_world_m: where the force acts, world frame, m.
         force_world_n: the force, world frame, N.
-        label: shown on hover.
+        label: shown beside the arrow.
     """
     set_time(rec, *start)
     rec.log(
@@ -64,7 +76,7 @@ def log_shove(
             origins=[point_world_m - force_world_n * SHOVE_ARROW_M_PER_N],  # the arrow ends at it
             vectors=[force_world_n * SHOVE_ARROW_M_PER_N],
             colors=[SHOVE_COLOR],
-            radii=[0.02],
+            radii=[SHOVE_ARROW_RADIUS_M],
             labels=[label],
             show_labels=True,
         ),

@@ -82,7 +82,9 @@ def log_house(rec: rr.RecordingStream, house: House) -> None:
         rec.log(f"{paths.HOUSE_FURNITURE}/cylinders", _parts_as_cylinders(cylinders), static=True)
 
 
-def _pose_in(base_pos: np.ndarray, base_mat: np.ndarray, pos: np.ndarray, mat: np.ndarray):
+def _pose_in(
+    base_pos: np.ndarray, base_mat: np.ndarray, pos: np.ndarray, mat: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """A world pose (position, 3x3) expressed in a base frame: (position, quaternion xyzw)."""
     rel_mat = base_mat.T @ mat
     quat = np.empty(4)

@@ -3,7 +3,7 @@
 :class:`RerunLogger` buffers what the run loop gives it and logs it in batches: one
 ``send_columns`` per entity every ``flush_every`` frames or ``max_latency_s`` of wall
 time, whichever comes first, and at the end. A call into Rerun costs about the same for
-one row as for fifty, so batching is what keeps recording cheap. Its do-nothing twin is
+one row as for hundreds, so batching is what keeps recording cheap. Its do-nothing twin is
 :class:`twsb_sim.sinks.NullSink`.
 """
 
@@ -14,7 +14,6 @@ import time
 import warnings
 from typing import TYPE_CHECKING, Any
 
-import mujoco
 import numpy as np
 import rerun as rr
 
@@ -27,7 +26,7 @@ from twsb_sim.rerun_log.annotations import (
 )
 from twsb_sim.rerun_log.batch import FrameBatch
 from twsb_sim.rerun_log.blueprint import default_blueprint
-from twsb_sim.rerun_log.events import log_events, log_shove
+from twsb_sim.rerun_log.events import log_events, log_shove, shove_in_world
 from twsb_sim.rerun_log.geometry import log_house, log_robot_body, log_sensor_view_frame
 from twsb_sim.rerun_log.plots import log_filter_series, log_robot_series, log_series_styles
 from twsb_sim.rerun_log.robot import log_robot_poses, log_trajectory, log_trajectory_style
@@ -39,7 +38,6 @@ from twsb_sim.rerun_log.scans import (
     log_sensor_labels,
 )
 from twsb_sim.rerun_log.timelines import frame_times, sim_times
-from twsb_sim.timeline import heading_force_to_world
 
 if TYPE_CHECKING:
     from twsb_sim.frame import Frame, RobotTruth
@@ -237,11 +235,8 @@ class RerunLogger:
         starting = [s for s in scenario.shoves if abs(s.t_s - t_s) <= sim.dt_s / 2]
         if not starting:
             return
-        shove, truth = starting[0], sim.truth()
-        rotation = np.empty(9)
-        mujoco.mju_quat2Mat(rotation, truth.quat_base_in_world)
-        point = truth.position_base_in_world + rotation.reshape(3, 3) @ np.array(shove.point_m)
-        force = heading_force_to_world(shove.force_n, truth.yaw_rad)
+        shove = starting[0]
+        point, force = shove_in_world(shove, sim.truth())
         start_frame = self._next_frame()
         # on the frame timeline it shows for at least one frame, even when shorter
         end_frame = max(
