@@ -34,6 +34,14 @@ SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 OFFLINE = {**os.environ, "CI": "1"}
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _offline():
+    """Whatever in this module starts Rerun code, it sends no usage data."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("CI", "1")
+        yield
+
+
 class Collect(NullSink):
     """Keeps the frames and the filter's results, to compare with what was recorded."""
 
@@ -288,8 +296,7 @@ def short_scenario(tmp_path) -> Path:
     return path
 
 
-def test_twsb_run_rrd_writes_a_recording(short_scenario, tmp_path, monkeypatch):
-    monkeypatch.setenv("CI", "1")
+def test_twsb_run_rrd_writes_a_recording(short_scenario, tmp_path):
     path = tmp_path / "out.rrd"
     assert main(["run", str(short_scenario), "--quiet", "--rrd", str(path)]) == 0
     frames = entity_rows(path, paths.SENSOR_DECISION, "Points2D:positions")
