@@ -8,8 +8,7 @@ costs nothing and reading a data set never loads MuJoCo.
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from twsb_sim.lazy_exports import lazy_exports
 
 _MODULES = {  # public name: the module that defines it
     "COLUMNS": "schema",
@@ -33,10 +32,4 @@ _MODULES = {  # public name: the module that defines it
     "export_bag": "rosbag",
 }
 
-__all__ = sorted(_MODULES)
-
-
-def __getattr__(name: str) -> Any:
-    if name in _MODULES:
-        return getattr(importlib.import_module(f"{__name__}.{_MODULES[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__, __all__ = lazy_exports(__name__, _MODULES)

@@ -4,60 +4,39 @@
 ``log_<thing>`` functions log one kind of data each; ``default_blueprint`` is the layout
 the viewer opens with; ``add_recording_args`` and ``rerun_sink`` wire the ``twsb run``
 flags (``--rrd`` and Rerun's own). Entity paths are in :mod:`twsb_sim.rerun_log.paths`.
+Names load on first use, so the ``twsb`` command line starts without importing Rerun.
 """
 
-from twsb_sim.rerun_log import paths
-from twsb_sim.rerun_log.annotations import (
-    BeamDecision,
-    beam_decisions,
-    decision_annotation_context,
-    label_annotation_context,
-)
-from twsb_sim.rerun_log.blueprint import default_blueprint
-from twsb_sim.rerun_log.events import log_events, log_shove
-from twsb_sim.rerun_log.geometry import log_house, log_robot_body, log_sensor_view_frame
-from twsb_sim.rerun_log.logger import RerunLogger
-from twsb_sim.rerun_log.plots import log_filter_series, log_robot_series, log_series_styles
-from twsb_sim.rerun_log.recording import (
-    APPLICATION_ID,
-    add_recording_args,
-    open_recording,
-    rerun_sink,
-    wants_recording,
-)
-from twsb_sim.rerun_log.robot import log_robot_poses, log_trajectory
-from twsb_sim.rerun_log.scans import (
-    log_clusters,
-    log_filter_decisions,
-    log_lidar_hits,
-    log_sensor_labels,
-)
+from __future__ import annotations
 
-__all__ = [
-    "APPLICATION_ID",
-    "BeamDecision",
-    "RerunLogger",
-    "add_recording_args",
-    "beam_decisions",
-    "decision_annotation_context",
-    "default_blueprint",
-    "label_annotation_context",
-    "log_clusters",
-    "log_events",
-    "log_filter_decisions",
-    "log_filter_series",
-    "log_house",
-    "log_lidar_hits",
-    "log_robot_body",
-    "log_robot_poses",
-    "log_robot_series",
-    "log_sensor_labels",
-    "log_sensor_view_frame",
-    "log_series_styles",
-    "log_shove",
-    "log_trajectory",
-    "open_recording",
-    "paths",
-    "rerun_sink",
-    "wants_recording",
-]
+from twsb_sim.lazy_exports import lazy_exports
+
+_HOMES = {  # public name -> the module that holds it
+    "paths": "paths",
+    "BeamDecision": "annotations",
+    "beam_decisions": "annotations",
+    "decision_annotation_context": "annotations",
+    "label_annotation_context": "annotations",
+    "default_blueprint": "blueprint",
+    "log_events": "events",
+    "log_shove": "events",
+    "log_house": "geometry",
+    "log_robot_body": "geometry",
+    "log_sensor_view_frame": "geometry",
+    "RerunLogger": "logger",
+    "log_filter_series": "plots",
+    "log_robot_series": "plots",
+    "log_series_styles": "plots",
+    "APPLICATION_ID": "recording",
+    "add_recording_args": "recording",
+    "open_recording": "recording",
+    "rerun_sink": "recording",
+    "wants_recording": "recording",
+    "log_robot_poses": "robot",
+    "log_trajectory": "robot",
+    "log_clusters": "scans",
+    "log_filter_decisions": "scans",
+    "log_lidar_hits": "scans",
+    "log_sensor_labels": "scans",
+}
+__getattr__, __all__ = lazy_exports(__name__, _HOMES)

@@ -18,8 +18,7 @@ from pathlib import Path
 import rerun as rr
 
 from twsb_sim.config_errors import ConfigError
-from twsb_sim.rerun_log.logger import RerunLogger
-from twsb_sim.sinks import NullSink
+from twsb_sim.sinks import FrameSink, NullSink
 
 APPLICATION_ID = "twsb"
 VIEWER_PORT = 9876  # Rerun's default gRPC port
@@ -97,12 +96,14 @@ def open_recording(args: argparse.Namespace) -> rr.RecordingStream | None:
     return rec
 
 
-def rerun_sink(args: argparse.Namespace, p_th: float = float("nan")) -> RerunLogger | NullSink:
+def rerun_sink(args: argparse.Namespace, p_th: float = float("nan")) -> FrameSink:
     """The run's Rerun sink: a :class:`RerunLogger` when the flags ask for a recording,
     else a :class:`NullSink`."""
     rec = open_recording(args)
     if rec is None:
         return NullSink()
+    from twsb_sim.rerun_log.logger import RerunLogger  # the logger's imports are heavy
+
     # the CLI owns the recording: close it with the run, except while serving it
     return RerunLogger(
         rec, state_rate_hz=args.state_rate, p_th=p_th, close_recording=not args.serve

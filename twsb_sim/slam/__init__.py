@@ -11,8 +11,7 @@ The names below load on first use, so the ``twsb`` command line, which registers
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from twsb_sim.lazy_exports import lazy_exports
 
 _HOMES = {  # public name -> the module that holds it
     "SequenceOutcome": "experiment",
@@ -35,10 +34,4 @@ _HOMES = {  # public name -> the module that holds it
     "SYSTEMS": "systems",
     "run_system": "systems",
 }
-__all__ = sorted(_HOMES)
-
-
-def __getattr__(name: str) -> Any:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_HOMES[name]}"), name)
+__getattr__, __all__ = lazy_exports(__name__, _HOMES)
