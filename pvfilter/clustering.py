@@ -54,7 +54,8 @@ class ClusterSet:
         variances: population variances (v_x, v_y) of each cluster's points, m^2,
             shape ``(k, 2)``.
         tree: KD-tree over the scan's valid points, the likelihood field for the next
-            scan (it may hold no points).
+            scan (it may hold no points); None from filters that need none (the
+            improved filter's segments).
     """
 
     scan: Scan
@@ -63,7 +64,7 @@ class ClusterSet:
     sizes: np.ndarray
     centroids: np.ndarray
     variances: np.ndarray
-    tree: cKDTree
+    tree: cKDTree | None
 
     def __len__(self) -> int:
         return int(self.sizes.size)

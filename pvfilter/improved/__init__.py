@@ -1,0 +1,32 @@
+"""The improved pitch-variation filter: a named option beside the paper's.
+
+:class:`ImprovedPitchVariationFilter` has the paper filter's API and result type
+(``process(scan)``, ``reset()``, :class:`pvfilter.FilterResult`), and optionally takes
+the robot's pitch and roll from an IMU. Its parameters (:class:`ImprovedParams`) are
+physical quantities; ``twsb tune`` fits them to a robot and writes a file that
+:func:`load_params` reads (no simulator needed).
+"""
+
+from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.detection import LineDetection, detect_lines
+from pvfilter.improved.filter import ImprovedPitchVariationFilter
+from pvfilter.improved.memory import LevelMemory, LevelView, free_space_gaps, new_points
+from pvfilter.improved.motion import Motion, estimate_motion
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments, segment_scan
+
+__all__ = [
+    "BeamLayout",
+    "ImprovedParams",
+    "ImprovedPitchVariationFilter",
+    "LevelMemory",
+    "LevelView",
+    "LineDetection",
+    "Motion",
+    "Segments",
+    "detect_lines",
+    "estimate_motion",
+    "free_space_gaps",
+    "new_points",
+    "segment_scan",
+]

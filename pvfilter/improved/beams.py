@@ -1,0 +1,79 @@
+"""The beam layout of a scan, with its trigonometry computed once per layout."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.scan import Scan
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class BeamLayout:
+    """Angles of a scan's beams and what every stage needs from them.
+
+    Attributes:
+        count: beams per scan.
+        angle_min: angle of beam 0, rad.
+        increment: angle between beams, rad.
+        cos: cosine of every beam angle, ``(count,)``.
+        sin: sine of every beam angle, ``(count,)``.
+        ring: the beams cover a full turn (within two increments), so beam ``count - 1``
+            neighbours beam 0 and turns wrap around.
+    """
+
+    count: int
+    angle_min: float
+    increment: float
+    cos: np.ndarray
+    sin: np.ndarray
+    ring: bool
+
+    @classmethod
+    def of(cls, scan: Scan) -> BeamLayout:
+        """The layout of ``scan``'s beams."""
+        angles = scan.angles()
+        ring = (len(scan) + 1) * scan.angle_increment >= 2.0 * math.pi
+        return cls(
+            len(scan), scan.angle_min, scan.angle_increment, np.cos(angles), np.sin(angles), ring
+        )
+
+    def fits(self, scan: Scan) -> bool:
+        """``scan`` has this layout."""
+        return (
+            len(scan) == self.count
+            and scan.angle_min == self.angle_min
+            and scan.angle_increment == self.increment
+        )
+
+    def points(self, ranges: np.ndarray) -> np.ndarray:
+        """Sensor-frame points of per-beam ranges, m, ``(count, 2)`` (NaN stays NaN)."""
+        points = np.empty((self.count, 2))
+        np.multiply(ranges, self.cos, out=points[:, 0])
+        np.multiply(ranges, self.sin, out=points[:, 1])
+        return points
+
+    def beam_of(self, points: np.ndarray) -> np.ndarray:
+        """The beam each point lies on, ``(k,)``; -1 where outside the scan's angles."""
+        bearing = np.arctan2(points[:, 1], points[:, 0])
+        beams = np.rint((bearing - self.angle_min) / self.increment).astype(np.intp)
+        if self.ring:
+            return beams % self.count
+        beams[(beams < 0) | (beams >= self.count)] = -1
+        return beams
+
+    def shifted(self, values: np.ndarray, shift: int) -> np.ndarray:
+        """``values`` per beam moved by ``shift`` beams (element ``i`` to ``i + shift``).
+
+        On a ring the beams wrap around; otherwise vacated beams are NaN.
+        """
+        if self.ring:
+            return np.roll(values, shift, axis=0)
+        moved = np.full(values.shape, np.nan)
+        if shift >= 0:
+            moved[shift:] = values[: len(values) - shift]
+        else:
+            moved[:shift] = values[-shift:]
+        return moved

@@ -1,0 +1,233 @@
+"""Which segments are floor or ceiling lines: evidence, tilted-plane geometry, extension.
+
+Per segment of the scan (:mod:`pvfilter.improved.segmentation`):
+
+1. **Evidence**: the share of its points that are new, i.e. in space the level view saw
+   as free (:func:`pvfilter.improved.memory.new_points`), or, with the IMU, on the
+   predicted floor (:mod:`pvfilter.improved.imu`).
+2. **Geometry of a tilted scan plane**: a floor line is straight, across the direction of
+   travel, at least ``h / sin(max_tilt)`` from the sensor, and its normal leans from the
+   x axis no more than a roll of ``max_roll_deg`` explains. A segment that fails gets no
+   score from the free-space evidence (the IMU's floor evidence needs no geometry).
+3. **Score and decision**: ``P(C_pv)`` is that share; the segment is detected when it
+   exceeds ``p_th``.
+4. **Extension**: a detected line takes in up to ``extend_beams`` points at each end that
+   lie on it (the corner where the local fit straddled line and wall), and, with
+   ``spread``, every new point of the scan that lies on it (all floor hits of one scan lie
+   on one line: fragments between furniture legs).
+
+The result is a :class:`pvfilter.Detection`, so the paper's removal and result types apply
+unchanged; its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the
+cluster (for information), ``p_theta`` is 1 where the segment passes the geometry gates and
+0 elsewhere, ``p_likelihood`` the share of its points the level view explains
+(1 - the free-space share), ``p_pv`` the score.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.clustering import ClusterSet
+from pvfilter.detection import Detection, perpendicular_variance_ratio
+from pvfilter.improved.motion import Motion
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments
+from pvfilter.scan import Scan
+
+CANDIDATE_SHARE = 0.25  # 1: segments this new or more sit out the next ego-motion fit
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class LineDetection(Detection):
+    """A :class:`pvfilter.Detection` with what the improved filter adds.
+
+    Attributes:
+        new_points: bool per beam: in space the level view saw as free.
+        floor_points: bool per beam: on the IMU's floor (all False without the IMU).
+        candidates: bool per beam: in a segment that passes the geometry gates with a
+            score above ``CANDIDATE_SHARE``, whatever ``p_th`` (the next scan's ego-motion
+            fit leaves them out).
+        line_distances: per cluster, distance of its fitted line from the sensor, m.
+        implied_tilt_rad: per cluster, the scan plane's tilt that puts the floor there.
+        implied_roll_rad: per cluster, the roll its normal's lean needs.
+        motion: the ego-motion from the previous scan.
+    """
+
+    new_points: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
+    floor_points: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
+    candidates: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
+    line_distances: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    implied_tilt_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    implied_roll_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    motion: Motion = dataclasses.field(default_factory=Motion)
+
+
+def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams) -> np.ndarray:
+    """Per segment: it could be the floor seen by a tilted scan plane (see module doc).
+
+    Args:
+        segments: the segments.
+        roll: the roll each segment's line implies, rad.
+        params: ``min_points``, ``max_tilt_deg``, ``max_roll_deg``, ``lidar_height_m``.
+    """
+    return (
+        segments.across
+        & (segments.sizes >= params.min_points)
+        & (segments.distances >= params.min_line_distance_m)
+        & (roll <= math.radians(params.max_roll_deg))
+    )
+
+
+def extend_lines(segments: Segments, detected: np.ndarray, params: ImprovedParams) -> np.ndarray:
+    """Segment labels after each detected line took in the points at its ends that lie on it.
+
+    Going outward from each end, a point joins while it is within ``extend_tolerance_m``
+    (plus 1 % of its range) of the line and within ``break_distance_m`` (plus 2 %) of the
+    point before it, for at most ``extend_beams`` points.
+
+    Returns:
+        A segment id per valid point (a copy of ``segments.labels``, extended).
+    """
+    labels = segments.labels.copy()
+    lines = np.flatnonzero(detected)
+    reach = params.extend_beams
+    if reach == 0 or lines.size == 0:
+        return labels
+    points, m = segments.points, len(segments.points)
+    firsts = np.searchsorted(segments.labels, lines)
+    lasts = np.searchsorted(segments.labels, lines, side="right") - 1
+    steps = np.arange(1, reach + 1)
+    # (2 * lines, reach) candidate points: before the first and after the last point
+    ends = np.concatenate((firsts, lasts))
+    direction = np.concatenate((-np.ones_like(firsts), np.ones_like(lasts)))
+    owner = np.concatenate((lines, lines))
+    index = ends[:, None] + direction[:, None] * steps[None, :]
+    inside = (index >= 0) & (index < m)
+    index = np.clip(index, 0, m - 1)
+    before = np.clip(index - direction[:, None], 0, m - 1)
+    candidate, previous = points[index], points[before]
+    ranges = np.hypot(candidate[..., 0], candidate[..., 1])
+    normal, centre = segments.normals[owner], segments.centroids[owner]
+    off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
+    gap = np.hypot(*(candidate - previous).transpose(2, 0, 1))
+    on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
+    on &= gap <= params.break_distance_m + 0.02 * ranges
+    joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
+    labels[index[joined]] = np.broadcast_to(owner[:, None], index.shape)[joined]
+    return labels
+
+
+def spread_lines(
+    segments: Segments, labels: np.ndarray, detected: np.ndarray, new: np.ndarray,
+    params: ImprovedParams,
+) -> np.ndarray:  # fmt: skip
+    """Give each new point that lies on a detected line, anywhere in the scan, to that line.
+
+    Args:
+        segments: the segments.
+        labels: segment id per valid point (after :func:`extend_lines`).
+        detected: bool per segment.
+        new: bool per valid point: new evidence.
+        params: ``extend_tolerance_m``.
+    """
+    lines = np.flatnonzero(detected)
+    candidates = np.flatnonzero(new & ~detected[labels])
+    if lines.size == 0 or candidates.size == 0:
+        return labels
+    points = segments.points[candidates]
+    normals, centres = segments.normals[lines], segments.centroids[lines]
+    offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
+    best = np.argmin(offsets, axis=1)
+    ranges = np.hypot(points[:, 0], points[:, 1])
+    near = offsets[np.arange(len(points)), best] <= params.extend_tolerance_m + 0.01 * ranges
+    near &= np.sum(points * centres[best], axis=1) > 0.0  # on the line's side of the sensor
+    labels = labels.copy()
+    labels[candidates[near]] = lines[best[near]]
+    return labels
+
+
+def detect_lines(
+    scan: Scan,
+    points: np.ndarray,
+    segments: Segments,
+    new: np.ndarray,
+    floor: np.ndarray | None,
+    params: ImprovedParams,
+    motion: Motion,
+    new_sequence: bool,
+) -> LineDetection:
+    """Score every segment, detect the lines, extend them, and build the clusters.
+
+    Args:
+        scan: the scan.
+        points: its points per beam, sensor frame, m, ``(n, 2)`` (NaN where invalid).
+        segments: its segments.
+        new: bool per beam: new (free-space) evidence.
+        floor: bool per beam from the IMU, or None without it.
+        params: the filter's parameters.
+        motion: the ego-motion (kept in the result).
+        new_sequence: this scan starts a sequence.
+    """
+    k, labels, n = len(segments), segments.labels, len(scan)
+    sizes = np.maximum(segments.sizes, 1)
+    new_valid = new[segments.beams]
+    share_new = np.bincount(labels, new_valid, k) / sizes
+    tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
+    gates = geometry_gates(segments, roll, params)
+    score = np.where(gates, share_new, 0.0)
+    if floor is not None:
+        score = np.fmax(score, np.bincount(labels, floor[segments.beams], k) / sizes)
+    detected = score > params.p_th
+    extended = extend_lines(segments, detected, params)
+    if params.spread:
+        extended = spread_lines(segments, extended, detected, new_valid, params)
+    # clusters: the detected segments, and the others with at least min_points points
+    final_sizes = np.bincount(extended, minlength=k)
+    kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
+    cluster_of = np.where(kept, np.cumsum(kept) - 1, -1)
+    beam_labels = np.full(n, -1, dtype=np.intp)
+    beam_labels[segments.beams] = cluster_of[extended]
+    clusters = _cluster_set(scan, points, beam_labels, segments, cluster_of[extended])
+    candidates = np.zeros(n, dtype=bool)
+    candidates[segments.beams] = (score > CANDIDATE_SHARE)[labels]
+    return LineDetection(
+        clusters=clusters,
+        v_c=perpendicular_variance_ratio(clusters.variances),
+        p_theta=gates[kept].astype(float),
+        p_likelihood=1.0 - share_new[kept],
+        p_pv=score[kept],
+        detected=detected[kept],
+        new_sequence=new_sequence,
+        new_points=new,
+        floor_points=np.zeros(n, dtype=bool) if floor is None else floor,
+        candidates=candidates,
+        line_distances=segments.distances[kept],
+        implied_tilt_rad=tilt[kept],
+        implied_roll_rad=roll[kept],
+        motion=motion,
+    )
+
+
+def _cluster_set(
+    scan: Scan, points: np.ndarray, beam_labels: np.ndarray, segments: Segments, ids: np.ndarray
+) -> ClusterSet:
+    """The clusters as :class:`pvfilter.ClusterSet` (no KD-tree: this filter needs none)."""
+    member = ids >= 0
+    ids, xy = ids[member], segments.points[member]
+    c = int(ids.max()) + 1 if ids.size else 0
+    sizes = np.bincount(ids, minlength=c)
+    mean_x, mean_y = np.bincount(ids, xy[:, 0], c) / sizes, np.bincount(ids, xy[:, 1], c) / sizes
+    var_x = np.bincount(ids, xy[:, 0] ** 2, c) / sizes - mean_x**2
+    var_y = np.bincount(ids, xy[:, 1] ** 2, c) / sizes - mean_y**2
+    return ClusterSet(
+        scan,
+        points,
+        beam_labels,
+        sizes,
+        np.column_stack((mean_x, mean_y)),
+        np.column_stack((np.maximum(var_x, 0.0), np.maximum(var_y, 0.0))),
+        None,
+    )

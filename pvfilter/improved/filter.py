@@ -1,0 +1,138 @@
+"""The improved filter: segment -> ego-motion -> level view -> detect -> remove.
+
+Same API and result type as :class:`pvfilter.PitchVariationFilter` (``process(scan)``,
+``reset()``, a :class:`pvfilter.FilterResult`), built on the physics of a tilted scan
+plane instead of the paper's per-scan heuristics. ``process`` also takes the robot's
+pitch and roll where an IMU gives them (optional).
+
+Robustness, as the paper's filter: empty and all-invalid scans give an empty result of
+the same length; a stamp earlier than the previous one resets the history with a
+:class:`pvfilter.StampWentBackWarning`; a change of beam count or angles starts the
+level-view memory afresh (it is kept per beam).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.detection import detect_lines
+from pvfilter.improved.imu import check_attitude, floor_points
+from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
+from pvfilter.improved.motion import Motion, estimate_motion
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import segment_scan
+from pvfilter.pipeline import FilterResult, StampWentBackWarning, remove_queued
+from pvfilter.scan import Scan
+
+
+class ImprovedPitchVariationFilter:
+    """A pitch-variation filter that holds up over whole pitch events, one scan per call.
+
+    Args:
+        params: the parameters; :class:`ImprovedParams` defaults when omitted.
+    """
+
+    def __init__(self, params: ImprovedParams | None = None) -> None:
+        self.params = params if params is not None else ImprovedParams()
+        self._memory = LevelMemory()
+        self._layout: BeamLayout | None = None
+        self._previous_points: np.ndarray | None = None  # for the next ego-motion fit
+        self._previous_stamp: float | None = None
+        self._motion = Motion()  # the last ego-motion: the next one's prior
+        self._new_sequence = True
+
+    def reset(self) -> None:
+        """Forget the history: the next scan starts a new sequence."""
+        self._new_sequence = True
+
+    def process(
+        self, scan: Scan, pitch_rad: float | None = None, roll_rad: float | None = None
+    ) -> FilterResult:
+        """Filter one scan; call once per scan, in time order.
+
+        Args:
+            scan: the scan at time t.
+            pitch_rad: the robot's pitch from an IMU, rad, positive nose down (optional).
+            roll_rad: its roll, rad, positive left side up (optional, 0 with a pitch).
+
+        Returns:
+            The filtered scan, the removed-beam mask, per-beam scores, per-cluster records.
+        """
+        attitude = check_attitude(pitch_rad, roll_rad)
+        params = self.params
+        new_sequence, dt = self._start(scan)
+        layout = self._layout
+        valid = scan.valid_mask()
+        ranges = np.where(valid, scan.ranges, np.nan)
+        points = layout.points(ranges)
+        beams = np.flatnonzero(valid)
+        # segment: split lines across the direction of travel from what they touch
+        segments = segment_scan(points[beams], beams, params)
+        # ego-motion, then the level view moved into this scan's frame
+        motion, view = Motion(), None
+        if not new_sequence:
+            directions = np.full(len(scan), np.nan)
+            directions[beams] = segments.directions
+            motion = self._ego_motion(layout, points, directions, dt)
+            view = self._memory.view(layout, scan.range_max, motion, params)
+        # evidence: returns in previously free space, and the IMU's floor
+        new = np.zeros(len(scan), dtype=bool)
+        if view is not None:
+            gaps = free_space_gaps(ranges, view.ranges, layout, params)
+            new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
+        floor = None
+        if attitude is not None:
+            floor = np.zeros(len(scan), dtype=bool)
+            floor[beams] = floor_points(points[beams], *attitude, params)
+        # detect: score segments, check the tilted-plane geometry, extend the lines
+        detection = detect_lines(scan, points, segments, new, floor, params, motion, new_sequence)
+        # remember: the level view, and the points the next ego-motion fit may use
+        self._memory.update(ranges, np.isposinf(scan.ranges), view, dt, params)
+        moving = new | detection.floor_points | detection.candidates
+        points[moving] = np.nan
+        self._previous_points, self._motion = points, motion
+        # remove: the beams of every detected segment become NaN
+        return remove_queued(detection, np.zeros(len(detection.clusters), dtype=bool))
+
+    def _ego_motion(
+        self, layout: BeamLayout, points: np.ndarray, directions: np.ndarray, dt: float
+    ) -> Motion:
+        if not self.params.ego_motion:
+            return Motion()
+        turn = self.params.max_yaw_rate_rad_s * dt
+        max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
+        return estimate_motion(
+            points,
+            directions,
+            self._previous_points,
+            layout,
+            max_shift,
+            self.params.association_m,
+            prior=self._motion,
+        )
+
+    def _start(self, scan: Scan) -> tuple[bool, float]:
+        """Check stamp and beams: does the scan start a sequence, and the time step, s."""
+        previous = self._previous_stamp
+        if previous is not None and scan.stamp < previous:
+            warnings.warn(
+                f"scan stamp {scan.stamp} s is earlier than the previous {previous} s; "
+                "the filter's history was reset",
+                StampWentBackWarning,
+                stacklevel=3,
+            )
+            self._new_sequence = True
+        self._previous_stamp = scan.stamp
+        new_sequence = self._new_sequence or self._layout is None or not self._layout.fits(scan)
+        self._new_sequence = False
+        if self._layout is None or not self._layout.fits(scan):
+            self._layout = BeamLayout.of(scan)
+        if new_sequence:
+            self._memory.reset()
+            self._motion = Motion()
+            return True, 0.0
+        return False, scan.stamp - previous

@@ -1,0 +1,177 @@
+"""The level-view memory: what each beam saw when the scan plane was level.
+
+The paper's likelihood field compares a scan with the scan just before it, so a floor
+line is "new" only in its first frame. Physics gives a cue that lasts the whole pitch
+event: a floor (or ceiling) line always lies **in front of** the structure a level
+scanner sees along the same beams, in space the scanner saw as free a moment ago. The
+structure itself does not come closer faster than the sensor moves, and the sensor's
+motion is known (:mod:`pvfilter.improved.motion`).
+
+So the memory keeps, per beam, the range of the level view in the current sensor frame:
+
+- each scan, it is moved by the ego-motion (points transformed, then binned back into
+  beams; the nearest point wins a beam; one-beam holes take a neighbour's view);
+- a beam's return replaces it when farther, and otherwise pulls it closer by at most
+  ``memory_shrink_mps`` times the time step: a line that jumps in front of the level view
+  (a floor line sweeps in at metres per second) stays "new" for many frames, while a
+  person walking in or an ego-motion error is absorbed within a few;
+- beams with no return within range (``+inf``) remember free space up to ``range_max``;
+- a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
+- a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
+  event lasts: the balance controller levels the robot) replaces it: the view was wrong.
+
+The memory does not depend on what the filter removed, so the filter's state, and with it
+every threshold of a precision-recall sweep, follows from the scans alone.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy.ndimage import minimum_filter1d
+
+from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.motion import Motion
+from pvfilter.improved.params import ImprovedParams
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class LevelView:
+    """The level view per beam of one scan.
+
+    Attributes:
+        ranges: m; NaN unknown, ``+inf`` free up to ``range_max``.
+        ages: s since a return last confirmed the beam.
+        ahead_s: s for which the beam's returns have been in front of the view.
+    """
+
+    ranges: np.ndarray
+    ages: np.ndarray
+    ahead_s: np.ndarray
+
+
+class LevelMemory:
+    """Per-beam level view of the scans so far, in the last scan's sensor frame."""
+
+    def __init__(self) -> None:
+        self.state: LevelView | None = None
+
+    def reset(self) -> None:
+        """Forget everything (a new sequence)."""
+        self.state = None
+
+    def view(
+        self, layout: BeamLayout, range_max: float, motion: Motion, params: ImprovedParams
+    ) -> LevelView:
+        """The level view of each beam of the current scan: the memory moved by ``motion``.
+
+        Does not change the memory; :meth:`update` does, with what this returns.
+        """
+        state = self.state
+        remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
+        known = np.flatnonzero(~np.isnan(remembered))
+        moved = motion.apply(layout.points(remembered)[known])
+        ranges = np.hypot(moved[:, 0], moved[:, 1])
+        beams = layout.beam_of(moved)
+        order = np.argsort(-ranges)  # the nearest point is written last and wins its beam
+        order = order[beams[order] >= 0]
+        target, source = beams[order], known[order]
+        n = layout.count
+        level, ages, ahead = np.full(n, np.nan), np.full(n, np.inf), np.zeros(n)
+        level[target] = ranges[order]
+        ages[target] = state.ages[source]
+        ahead[target] = state.ahead_s[source]
+        _fill_single_holes(level, ages, ahead)
+        level[level >= range_max] = np.inf
+        level[ages > params.memory_timeout_s] = np.nan
+        return LevelView(level, ages, ahead)
+
+    def update(
+        self,
+        ranges: np.ndarray,
+        no_return: np.ndarray,
+        view: LevelView | None,
+        dt: float,
+        params: ImprovedParams,
+    ) -> None:
+        """Take a scan into the memory.
+
+        Args:
+            ranges: the scan's ranges per beam, m; NaN where invalid.
+            no_return: per beam, nothing within ``range_max`` (``+inf``).
+            view: what :meth:`view` returned for it; None for the first scan of a sequence.
+            dt: time since the previous scan, s.
+            params: ``memory_shrink_mps`` and ``max_event_s`` are used.
+        """
+        n = len(ranges)
+        valid = ~np.isnan(ranges)
+        if view is None:  # the first scan of a sequence
+            level, ages, ahead = np.full(n, np.nan), np.full(n, np.inf), np.zeros(n)
+        else:
+            level, ages, ahead = view.ranges.copy(), view.ages + dt, view.ahead_s
+        shrink = params.memory_shrink_mps * dt
+        floor = level - shrink if shrink < np.inf else np.full(n, -np.inf)
+        floor[np.isnan(floor)] = -np.inf
+        held = np.less(ranges, floor, where=valid, out=np.zeros(n, dtype=bool))
+        ahead = np.where(held, ahead + dt, 0.0)  # in front of the view for this long
+        settled = ahead > params.max_event_s
+        level[valid] = np.fmax(ranges[valid], floor[valid])
+        level[settled] = ranges[settled]
+        ahead[settled] = 0.0
+        ages[valid] = 0.0
+        level[no_return] = np.inf
+        ages[no_return] = 0.0
+        self.state = LevelView(level, ages, ahead)
+
+
+def free_space_gaps(
+    ranges: np.ndarray, level: np.ndarray, layout: BeamLayout, params: ImprovedParams
+) -> np.ndarray:
+    """Per beam: how far in front of the level view the return lies, m (NaN: unknown).
+
+    The level view of a beam is the nearest of the ``memory_window_beams`` beams on each
+    side; beams whose own view is unknown, and invalid beams (``ranges`` NaN), get NaN.
+    ``+inf`` means the level view saw nothing within ``range_max`` along the beam.
+    """
+    window = 2 * params.memory_window_beams + 1
+    unknown = np.isnan(level)
+    nearest = (
+        level
+        if window == 1
+        else minimum_filter1d(
+            np.where(unknown, np.inf, level), window, mode="wrap" if layout.ring else "nearest"
+        )
+    )
+    gaps = nearest - ranges
+    gaps[unknown] = np.nan
+    return gaps
+
+
+def new_points(
+    gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
+) -> np.ndarray:
+    """Per beam: the return lies in front of the level view by more than the margin.
+
+    Args:
+        gaps: from :func:`free_space_gaps`, m.
+        ranges: the scan's ranges, m (NaN where invalid).
+        margin_m: fixed part of the margin, m.
+        margin_rel: part of the margin per metre of range, 1.
+    """
+    out = np.zeros(len(gaps), dtype=bool)
+    return np.greater(gaps, margin_m + margin_rel * ranges, where=~np.isnan(gaps), out=out)
+
+
+def _fill_single_holes(level: np.ndarray, ages: np.ndarray, ahead: np.ndarray) -> None:
+    """Give beams that no remembered point landed on their nearer neighbour's values."""
+    hole = np.flatnonzero(np.isnan(level))
+    if hole.size == 0 or hole.size == len(level):
+        return
+    n = len(level)
+    left, right = (hole - 1) % n, (hole + 1) % n
+    take_left = ~np.isnan(level[left]) & ~(level[right] < level[left])
+    source = np.where(take_left, left, right)
+    fill = ~np.isnan(level[source])
+    hole, source = hole[fill], source[fill]
+    level[hole], ages[hole], ahead[hole] = level[source], ages[source], ahead[source]

@@ -1,0 +1,150 @@
+"""Ego-motion between consecutive scans, from the scans alone.
+
+The level-view memory (:mod:`pvfilter.improved.memory`) must follow the sensor as it
+turns and drives, or every turn makes the world look new. No odometry is assumed: the
+motion comes from the two scans in two steps, both cheap on 720 beams:
+
+1. **Turn, to the nearest beam**: the previous ranges shifted by ``s`` beams are compared
+   with the current ones (sum of the clipped absolute differences), first for every shift
+   near the previous turn on all beams (the turn rate changes little between scans), and
+   only if that fails for every shift the fastest turn allows on every fourth beam; the
+   best ``s`` gives ``theta_0 = s * angle_increment``.
+2. **Fine turn and translation**: a point-to-line least-squares step, solved twice with the
+   worst residuals dropped in between. Beam ``i`` of the current scan (point ``p``, local
+   line normal ``n``) and the previous point the coarse turn puts on it (``q``) lie on the
+   same surface, so ``n . (R(d_theta) q + t - p) = 0``, linear in ``(d_theta, t)``. The
+   previous motion (constant velocity) enters as a weak prior: it decides directions the
+   scans do not constrain (along a corridor).
+
+Convention: a static point at ``q`` in the previous sensor frame is at ``R(theta) q + t``
+in the current one. The caller leaves out beams that may be pitch variation; pairs
+farther apart than ``association_m`` after the coarse turn take no part.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.improved.beams import BeamLayout
+
+MIN_PAIRS = 20  # fewer usable beam pairs: keep the coarse turn, no translation
+CLIP_M = 0.5  # m: range differences are clipped here in the coarse search
+NEAR_SHIFTS = 3  # beams: the turn is first sought this close to the previous one
+# The prior as pseudo-observations: (row noise / prior spread)^2 per unknown, with a row
+# noise of 2 cm and spreads of 0.01 rad and 3 cm per scan
+PRIOR_WEIGHTS = np.diag([(0.02 / 0.01) ** 2, (0.02 / 0.03) ** 2, (0.02 / 0.03) ** 2])
+
+
+@dataclasses.dataclass(frozen=True)
+class Motion:
+    """The sensor's motion between two scans (see the module docstring for the convention).
+
+    Attributes:
+        theta_rad: rotation, rad.
+        tx_m: translation along the current x axis, m.
+        ty_m: translation along the current y axis, m.
+        pairs: beam pairs used in the fine step (0: coarse turn only, or no motion).
+    """
+
+    theta_rad: float = 0.0
+    tx_m: float = 0.0
+    ty_m: float = 0.0
+    pairs: int = 0
+
+    def apply(self, points: np.ndarray) -> np.ndarray:
+        """Points of the previous sensor frame in the current one, m, ``(k, 2)``."""
+        c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
+        return points @ np.array([[c, s], [-s, c]]) + (self.tx_m, self.ty_m)
+
+
+def coarse_turn(
+    ranges: np.ndarray, previous: np.ndarray, max_shift: int, layout: BeamLayout, expected: int
+) -> int:
+    """The beam shift of ``previous`` that best matches ``ranges`` (NaN: not compared).
+
+    The turn rate changes little between scans, so the shifts next to the ``expected``
+    one are tried first on all beams; only when the best of them is at the edge of that
+    window are all shifts up to ``max_shift`` tried, on every fourth beam.
+    """
+    near = np.arange(expected - NEAR_SHIFTS, expected + NEAR_SHIFTS + 1)
+    best = _best_shift(ranges, previous, near, layout, 1)
+    if abs(best - expected) < NEAR_SHIFTS:
+        return best
+    best = _best_shift(ranges, previous, np.arange(-max_shift, max_shift + 1), layout, 4)
+    return _best_shift(ranges, previous, np.arange(best - 2, best + 3), layout, 1)
+
+
+def _best_shift(
+    ranges: np.ndarray, previous: np.ndarray, shifts: np.ndarray, layout: BeamLayout, stride: int
+) -> int:
+    """The shift with the least clipped range difference over every ``stride``-th beam."""
+    n = layout.count
+    beams = np.arange(0, n, stride)
+    source = beams[None, :] - shifts[:, None]
+    if layout.ring:
+        shifted = previous[source % n]
+    else:
+        shifted = previous[np.clip(source, 0, n - 1)]
+        shifted[(source < 0) | (source >= n)] = np.nan
+    cost = np.fmin(np.abs(shifted - ranges[beams]), CLIP_M)  # fmin: NaN gives CLIP_M
+    return int(shifts[np.argmin(np.sum(cost, axis=1))])  # ties: the lowest shift
+
+
+def estimate_motion(
+    points: np.ndarray,
+    directions: np.ndarray,
+    previous_points: np.ndarray,
+    layout: BeamLayout,
+    max_shift: int,
+    association_m: float,
+    prior: Motion | None = None,
+) -> Motion:
+    """The sensor's motion from the previous scan to this one.
+
+    Args:
+        points: this scan's points per beam, sensor frame, m, ``(n, 2)``; NaN rows where
+            the beam has no usable return.
+        directions: local line direction per beam, rad, ``(n,)``; NaN where unknown.
+        previous_points: the previous scan's points per beam, NaN rows where unusable.
+        layout: the beams of both scans.
+        max_shift: largest turn searched, beams.
+        association_m: pairs farther apart than this after the coarse turn are unused, m.
+        prior: the motion expected (the previous one), or None for no motion.
+    """
+    ranges = np.hypot(points[:, 0], points[:, 1])
+    previous_ranges = np.hypot(previous_points[:, 0], previous_points[:, 1])
+    expected = round(prior.theta_rad / layout.increment) if prior is not None else 0
+    expected = min(max(expected, -max_shift), max_shift)
+    shift = coarse_turn(ranges, previous_ranges, max_shift, layout, expected)
+    coarse = Motion(theta_rad=shift * layout.increment)
+    q = coarse.apply(layout.shifted(previous_points, shift))
+    step = points - q
+    gap = np.hypot(step[:, 0], step[:, 1])
+    usable = ~np.isnan(gap) & ~np.isnan(directions)
+    rows = np.flatnonzero(np.less(gap, association_m, where=usable, out=np.zeros(len(gap), bool)))
+    if rows.size < MIN_PAIRS:
+        return coarse
+    normal_x, normal_y = -np.sin(directions[rows]), np.cos(directions[rows])
+    a, d = q[rows], step[rows]
+    design = np.stack((normal_y * a[:, 0] - normal_x * a[:, 1], normal_x, normal_y), axis=1)
+    target = normal_x * d[:, 0] + normal_y * d[:, 1]
+    expected = np.zeros(3)
+    if prior is not None:
+        expected = np.array([prior.theta_rad - coarse.theta_rad, prior.tx_m, prior.ty_m])
+    solution = _solve(design, target, expected)
+    # drop the worst fits (occlusion edges, moving things) once, and solve again
+    residual = np.abs(design @ solution - target)
+    keep = residual <= max(3.0 * float(np.median(residual)), 0.01)
+    if np.count_nonzero(keep) >= MIN_PAIRS:
+        solution = _solve(design[keep], target[keep], expected)
+    d_theta, tx, ty = (float(v) for v in solution)
+    return Motion(coarse.theta_rad + d_theta, tx, ty, int(np.count_nonzero(keep)))
+
+
+def _solve(design: np.ndarray, target: np.ndarray, expected: np.ndarray) -> np.ndarray:
+    """Least squares with the prior's pseudo-observations (normal equations, 3 x 3)."""
+    matrix = design.T @ design + PRIOR_WEIGHTS
+    return np.linalg.solve(matrix, design.T @ target + PRIOR_WEIGHTS @ expected)

@@ -1,0 +1,141 @@
+"""Segmentation that splits a floor or ceiling line from the structure it touches.
+
+A tilted scan plane meets the floor along the straight line ``x = h / sin(pitch)`` in the
+sensor frame, across the direction of travel, and meets the walls beside it in one
+continuous curve: distance-based clustering joins the two (the paper's filter then sees a
+cluster that is mostly wall). Here every point gets the direction of a line fitted to
+its neighbours in scan order, and a segment is a run of consecutive points that
+
+- are at most ``break_distance_m`` (plus 2 % of the range) apart, and
+- all lie on a line across the direction of travel (local direction within
+  ``line_angle_deg`` of the sensor's y axis), or all do not.
+
+So a floor line and the side wall it runs into fall into different segments at the
+corner. Each segment then gets a total-least-squares line: its normal, its distance from
+the sensor, and what tilt and roll of the scan plane would put the floor there.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.improved.params import ImprovedParams
+
+
+def local_directions(points: np.ndarray, half_width: int) -> np.ndarray:
+    """Direction of the line through each point and its neighbours in scan order, rad.
+
+    A total-least-squares fit over the ``2 * half_width + 1`` points around each point
+    (fewer at the ends), from running sums, so the cost is linear in the points.
+
+    Args:
+        points: valid points in beam order, sensor frame, m, shape ``(m, 2)``.
+        half_width: neighbours on each side, points.
+
+    Returns:
+        Angle of each local line from the x axis, in ``(-pi/2, pi/2]``, shape ``(m,)``.
+    """
+    m = len(points)
+    if m == 0:
+        return np.zeros(0)
+    at = np.arange(m)
+    low, high = np.clip(at - half_width, 0, m), np.clip(at + half_width + 1, 0, m)
+    x, y = points[:, 0], points[:, 1]
+    # running sums of x, y, xx, yy, xy in one pass; a window's sum is a difference of two
+    running = np.zeros((5, m + 1))
+    np.cumsum(np.stack((x, y, x * x, y * y, x * y)), axis=1, out=running[:, 1:])
+    mean_x, mean_y, mean_xx, mean_yy, mean_xy = (running[:, high] - running[:, low]) / (high - low)
+    cxx = mean_xx - mean_x * mean_x
+    cyy = mean_yy - mean_y * mean_y
+    cxy = mean_xy - mean_x * mean_y
+    return 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Segments:
+    """A scan cut into segments, and the line of each.
+
+    Attributes:
+        beams: beam index of every valid point, ascending, shape ``(m,)``.
+        points: those points, sensor frame, m, ``(m, 2)``.
+        labels: segment id of every valid point (0..k-1 in scan order), ``(m,)``.
+        directions: local line direction per valid point, rad, ``(m,)``.
+        across: per segment, its points lie on a line across the direction of travel.
+        sizes: points per segment, ``(k,)``.
+        centroids: mean point per segment, m, ``(k, 2)``.
+        variances: (v_x, v_y) per segment, m², ``(k, 2)``.
+        normals: unit normal of each segment's fitted line, ``(k, 2)``.
+        distances: distance of each fitted line from the sensor, m, ``(k,)``.
+    """
+
+    beams: np.ndarray
+    points: np.ndarray
+    labels: np.ndarray
+    directions: np.ndarray
+    across: np.ndarray
+    sizes: np.ndarray
+    centroids: np.ndarray
+    variances: np.ndarray
+    normals: np.ndarray
+    distances: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.sizes.size)
+
+    def implied_tilt_roll(self, lidar_height_m: float) -> tuple[np.ndarray, np.ndarray]:
+        """Tilt and roll of the scan plane that would put the floor on each line, rad.
+
+        For pitch p and roll r the floor line is ``x sin p - y cos p sin r = h``: a line
+        at ``h / sin(tilt)`` whose normal leans from the x axis by about ``r / tilt``.
+        Lines nearer than ``h`` get a tilt of pi/2.
+        """
+        ratio = np.clip(lidar_height_m / np.maximum(self.distances, 1e-9), 0.0, 1.0)
+        tilt = np.arcsin(ratio)
+        roll = np.arcsin(np.clip(np.sin(tilt) * np.abs(self.normals[:, 1]), 0.0, 1.0))
+        return tilt, roll
+
+
+def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) -> Segments:
+    """Cut the valid points of a scan into segments and fit a line to each.
+
+    Args:
+        points: valid points in beam order, sensor frame, m, ``(m, 2)``.
+        beams: their beam indices, ascending.
+        params: ``local_fit_beams``, ``line_angle_deg`` and ``break_distance_m`` are used.
+    """
+    directions = local_directions(points, params.local_fit_beams)
+    across = np.abs(np.sin(directions)) > math.cos(math.radians(params.line_angle_deg))
+    x, y = points[:, 0], points[:, 1]
+    if len(points) == 0:
+        labels = np.zeros(0, dtype=np.intp)
+    else:
+        steps = np.hypot(np.diff(x), np.diff(y))
+        ranges = np.hypot(x[1:], y[1:])
+        cut = (steps > params.break_distance_m + 0.02 * ranges) | (across[1:] != across[:-1])
+        labels = np.concatenate(([0], np.cumsum(cut)))
+    k = int(labels[-1]) + 1 if len(labels) else 0
+    sizes = np.bincount(labels, minlength=k)
+    mean_x = np.bincount(labels, x, k) / sizes
+    mean_y = np.bincount(labels, y, k) / sizes
+    # second moments about the mean, from raw sums (ranges are metres: no cancellation)
+    cxx = np.bincount(labels, x * x, k) / sizes - mean_x * mean_x
+    cyy = np.bincount(labels, y * y, k) / sizes - mean_y * mean_y
+    cxy = np.bincount(labels, x * y, k) / sizes - mean_x * mean_y
+    angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
+    normals = np.column_stack((-np.sin(angle), np.cos(angle)))
+    centroids = np.column_stack((mean_x, mean_y))
+    return Segments(
+        beams=beams,
+        points=points,
+        labels=labels,
+        directions=directions,
+        across=across[np.searchsorted(labels, np.arange(k))],  # a segment is all or none
+        sizes=sizes,
+        centroids=centroids,
+        variances=np.column_stack((np.maximum(cxx, 0.0), np.maximum(cyy, 0.0))),
+        normals=normals,
+        distances=np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1]),
+    )
