@@ -16,6 +16,10 @@ Per segment of the scan (:mod:`pvfilter.improved.segmentation`):
    ``spread``, every new point of the scan that lies on it (all floor hits of one scan lie
    on one line: fragments between furniture legs).
 
+The state the filter carries between scans does not depend on ``p_th``, and each beam's
+claim score (:func:`best_claims`) says at which thresholds it is removed, so one pass over
+a sequence gives the exact result of every threshold of a precision-recall sweep.
+
 The result is a :class:`pvfilter.Detection`, so the paper's removal and result types apply
 unchanged; its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the
 cluster (for information), ``p_theta`` is 1 where the segment passes the geometry gates and
@@ -54,6 +58,9 @@ class LineDetection(Detection):
         implied_tilt_rad: per cluster, the scan plane's tilt that puts the floor there.
         implied_roll_rad: per cluster, the roll its normal's lean needs.
         motion: the ego-motion from the previous scan.
+        claim_scores: per beam, the best score of the lines that take it in (its own
+            segment's, or a line's that extends or spreads over it): the beam is removed
+            exactly when this exceeds ``p_th``.
     """
 
     new_points: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
@@ -63,6 +70,7 @@ class LineDetection(Detection):
     implied_tilt_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
     implied_roll_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
     motion: Motion = dataclasses.field(default_factory=Motion)
+    claim_scores: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
 
 
 def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams) -> np.ndarray:
@@ -81,72 +89,98 @@ def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams)
     )
 
 
-def extend_lines(segments: Segments, detected: np.ndarray, params: ImprovedParams) -> np.ndarray:
-    """Segment labels after each detected line took in the points at its ends that lie on it.
+def extension_claims(
+    segments: Segments, lines: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """The points at the ends of each line that lie on it: (point index, line) pairs.
 
     Going outward from each end, a point joins while it is within ``extend_tolerance_m``
     (plus 1 % of its range) of the line and within ``break_distance_m`` (plus 2 %) of the
     point before it, for at most ``extend_beams`` points.
 
-    Returns:
-        A segment id per valid point (a copy of ``segments.labels``, extended).
+    Args:
+        segments: the segments.
+        lines: the segments that may extend.
+        params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``.
     """
-    labels = segments.labels.copy()
-    lines = np.flatnonzero(detected)
-    reach = params.extend_beams
+    reach, m = params.extend_beams, len(segments.points)
     if reach == 0 or lines.size == 0:
-        return labels
-    points, m = segments.points, len(segments.points)
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    points = segments.points
     firsts = np.searchsorted(segments.labels, lines)
     lasts = np.searchsorted(segments.labels, lines, side="right") - 1
-    steps = np.arange(1, reach + 1)
     # (2 * lines, reach) candidate points: before the first and after the last point
-    ends = np.concatenate((firsts, lasts))
-    direction = np.concatenate((-np.ones_like(firsts), np.ones_like(lasts)))
+    direction = np.repeat([-1, 1], lines.size)
     owner = np.concatenate((lines, lines))
-    index = ends[:, None] + direction[:, None] * steps[None, :]
+    ends = np.concatenate((firsts, lasts))
+    index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
     inside = (index >= 0) & (index < m)
     index = np.clip(index, 0, m - 1)
-    before = np.clip(index - direction[:, None], 0, m - 1)
-    candidate, previous = points[index], points[before]
+    candidate = points[index]
+    step = candidate - points[np.clip(index - direction[:, None], 0, m - 1)]
     ranges = np.hypot(candidate[..., 0], candidate[..., 1])
     normal, centre = segments.normals[owner], segments.centroids[owner]
     off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
-    gap = np.hypot(*(candidate - previous).transpose(2, 0, 1))
     on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
-    on &= gap <= params.break_distance_m + 0.02 * ranges
+    on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
     joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
-    labels[index[joined]] = np.broadcast_to(owner[:, None], index.shape)[joined]
-    return labels
+    return index[joined], np.broadcast_to(owner[:, None], index.shape)[joined]
 
 
-def spread_lines(
-    segments: Segments, labels: np.ndarray, detected: np.ndarray, new: np.ndarray,
-    params: ImprovedParams,
-) -> np.ndarray:  # fmt: skip
-    """Give each new point that lies on a detected line, anywhere in the scan, to that line.
+def spread_claims(
+    segments: Segments, lines: np.ndarray, new: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """New points anywhere in the scan that lie on a line: (point index, line) pairs.
+
+    All floor hits of one scan lie on one straight line, so fragments of it between
+    furniture legs, too short or too noisy to be segments of their own, are found by their
+    distance to the line (within ``extend_tolerance_m`` plus 1 % of the range, on the
+    line's side of the sensor).
 
     Args:
         segments: the segments.
-        labels: segment id per valid point (after :func:`extend_lines`).
-        detected: bool per segment.
+        lines: the segments that may claim points.
         new: bool per valid point: new evidence.
         params: ``extend_tolerance_m``.
     """
-    lines = np.flatnonzero(detected)
-    candidates = np.flatnonzero(new & ~detected[labels])
+    candidates = np.flatnonzero(new)
     if lines.size == 0 or candidates.size == 0:
-        return labels
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     points = segments.points[candidates]
     normals, centres = segments.normals[lines], segments.centroids[lines]
     offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
-    best = np.argmin(offsets, axis=1)
     ranges = np.hypot(points[:, 0], points[:, 1])
-    near = offsets[np.arange(len(points)), best] <= params.extend_tolerance_m + 0.01 * ranges
-    near &= np.sum(points * centres[best], axis=1) > 0.0  # on the line's side of the sensor
-    labels = labels.copy()
-    labels[candidates[near]] = lines[best[near]]
-    return labels
+    near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
+    near &= points @ centres.T > 0.0  # on the line's side of the sensor
+    point, line = np.nonzero(near)
+    return candidates[point], lines[line]
+
+
+def best_claims(
+    segments: Segments, score: np.ndarray, new: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per valid point: the highest-scoring line that takes it in, and that score.
+
+    A point belongs to its own segment, and may be claimed by the lines with a score
+    (extension at their ends, and with ``spread`` anywhere on them). At a threshold
+    ``p_th`` it is removed exactly when the best claim's score exceeds ``p_th``; the best
+    claimer is then detected, and the point joins its cluster.
+
+    Returns:
+        The owning segment per point, and its score.
+    """
+    owner = segments.labels.copy()
+    lines = np.flatnonzero(score > 0.0)
+    pairs = [extension_claims(segments, lines, params)]
+    if params.spread:
+        pairs.append(spread_claims(segments, lines, new, params))
+    points = np.concatenate([p for p, _ in pairs])
+    claimer = np.concatenate([c for _, c in pairs])
+    order = np.argsort(score[claimer], kind="stable")  # the best claim is written last
+    points, claimer = points[order], claimer[order]
+    better = score[claimer] > score[owner[points]]
+    owner[points[better]] = claimer[better]
+    return owner, score[owner]
 
 
 def detect_lines(
@@ -181,9 +215,8 @@ def detect_lines(
     if floor is not None:
         score = np.fmax(score, np.bincount(labels, floor[segments.beams], k) / sizes)
     detected = score > params.p_th
-    extended = extend_lines(segments, detected, params)
-    if params.spread:
-        extended = spread_lines(segments, extended, detected, new_valid, params)
+    owner, best = best_claims(segments, score, new_valid, params)
+    extended = np.where(best > params.p_th, owner, labels)
     # clusters: the detected segments, and the others with at least min_points points
     final_sizes = np.bincount(extended, minlength=k)
     kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
@@ -191,6 +224,8 @@ def detect_lines(
     beam_labels = np.full(n, -1, dtype=np.intp)
     beam_labels[segments.beams] = cluster_of[extended]
     clusters = _cluster_set(scan, points, beam_labels, segments, cluster_of[extended])
+    claim_scores = np.zeros(n)
+    claim_scores[segments.beams] = best
     candidates = np.zeros(n, dtype=bool)
     candidates[segments.beams] = (score > CANDIDATE_SHARE)[labels]
     return LineDetection(
@@ -208,6 +243,7 @@ def detect_lines(
         implied_tilt_rad=tilt[kept],
         implied_roll_rad=roll[kept],
         motion=motion,
+        claim_scores=claim_scores,
     )
 
 

@@ -19,14 +19,28 @@ import warnings
 import numpy as np
 
 from pvfilter.improved.beams import BeamLayout
-from pvfilter.improved.detection import detect_lines
+from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.imu import check_attitude, floor_points
 from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
 from pvfilter.improved.motion import Motion, estimate_motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import segment_scan
-from pvfilter.pipeline import FilterResult, StampWentBackWarning, remove_queued
+from pvfilter.pipeline import FilterResult, StampWentBackWarning
 from pvfilter.scan import Scan
+
+
+def removal(detection: LineDetection) -> FilterResult:
+    """The filter's result: the beams of every detected cluster become NaN.
+
+    As the paper's removal, except that the per-beam scores are the claim scores: a beam's
+    score exceeds ``p_th`` exactly when it is removed, whatever ``p_th``.
+    """
+    labels = detection.clusters.labels
+    removed = np.append(detection.detected, False)[labels]  # label -1: the appended False
+    scan = detection.clusters.scan
+    filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges))
+    tracked = np.zeros(len(detection.clusters), dtype=bool)  # no tracking module
+    return FilterResult(filtered, removed, detection.claim_scores, detection, tracked)
 
 
 class ImprovedPitchVariationFilter:
@@ -96,7 +110,7 @@ class ImprovedPitchVariationFilter:
         points[moving] = np.nan
         self._previous_points, self._motion = points, motion
         # remove: the beams of every detected segment become NaN
-        return remove_queued(detection, np.zeros(len(detection.clusters), dtype=bool))
+        return removal(detection)
 
     def _ego_motion(
         self, layout: BeamLayout, points: np.ndarray, directions: np.ndarray, dt: float
