@@ -1,11 +1,15 @@
 """The Pitch Variation Filter: removes floor and ceiling clusters from 2D LiDAR scans.
 
-numpy and scipy only; no simulator inside. See :class:`PitchVariationFilter`.
+numpy and scipy only; no simulator inside. See :class:`PitchVariationFilter` (the paper's
+filter, Table I defaults) and :class:`ImprovedPitchVariationFilter` (the improved filter,
+same API; :func:`load_params` reads the parameter files ``twsb tune`` writes).
 """
 
 from pvfilter.clustering import ClusterSet, cluster_scan
 from pvfilter.detection import Detection, detect_clusters
+from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
 from pvfilter.params import FilterParams
+from pvfilter.params_file import load_params, save_params
 from pvfilter.pipeline import (
     ClusterRecord,
     FilterResult,
@@ -22,6 +26,8 @@ __all__ = [
     "Detection",
     "FilterParams",
     "FilterResult",
+    "ImprovedParams",
+    "ImprovedPitchVariationFilter",
     "PitchVariationFilter",
     "Scan",
     "StampWentBackWarning",
@@ -30,4 +36,6 @@ __all__ = [
     "TrackingQueue",
     "cluster_scan",
     "detect_clusters",
+    "load_params",
+    "save_params",
 ]

@@ -1,0 +1,142 @@
+"""Parameter files: a filter's parameters in TOML (or JSON), e.g. from ``twsb tune``.
+
+A file names its filter and holds its parameters in a table of that name; anything else
+(``[tuning]``: how the values were found) is kept for people and ignored by the loader:
+
+.. code-block:: toml
+
+    filter = "improved"          # or "paper" (FilterParams, Table I symbols)
+
+    [improved]
+    lidar_height_m = 0.25        # m
+    free_margin_m = 0.15         # m
+    p_th = 0.5                   # 1
+
+    [tuning]
+    objective = "auc"
+
+Parameters left out keep their defaults. JSON files (``.json``) have the same structure.
+Mistakes raise ``ValueError("<file>: <key>: <what was expected>")``. numpy, scipy and the
+standard library only: no simulator is needed to read a file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from pvfilter.improved.filter import ImprovedPitchVariationFilter
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.params import FilterParams
+from pvfilter.pipeline import PitchVariationFilter
+
+FILTERS: dict[str, type] = {"paper": FilterParams, "improved": ImprovedParams}
+Params = FilterParams | ImprovedParams
+
+
+def filter_for(params: Params) -> PitchVariationFilter | ImprovedPitchVariationFilter:
+    """A new filter of the kind ``params`` are for."""
+    if isinstance(params, ImprovedParams):
+        return ImprovedPitchVariationFilter(params)
+    return PitchVariationFilter(params)
+
+
+def read_params_file(path: str | Path) -> dict[str, Any]:
+    """The file's tables as plain values (TOML, or JSON for a ``.json`` file)."""
+    path = Path(path)
+    text = path.read_text(encoding="utf-8")
+    try:
+        if path.suffix.lower() == ".json":
+            return json.loads(text)
+        return tomllib.loads(text)
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
+        raise ValueError(f"{path}: not a valid parameter file: {error}") from None
+
+
+def params_from_table(table: dict[str, Any], source: str = "<table>") -> Params:
+    """The parameters a file's tables describe (see the module docstring).
+
+    Raises:
+        ValueError: ``"<source>: <key>: ..."`` for an unknown filter, key or bad value.
+    """
+    name = table.get("filter", "improved")
+    if name not in FILTERS:
+        raise ValueError(f"{source}: filter: must be one of {', '.join(FILTERS)}, got {name!r}")
+    kind = FILTERS[name]
+    values = table.get(name, {})
+    if not isinstance(values, dict):
+        raise ValueError(f"{source}: {name}: must be a table of parameters")
+    fields = {f.name: f for f in dataclasses.fields(kind)}
+    for key, value in values.items():
+        if key not in fields:
+            raise ValueError(
+                f"{source}: {name}.{key}: unknown parameter (known: {', '.join(fields)})"
+            )
+        expected = type(fields[key].default)
+        if expected is int and isinstance(value, float) and value.is_integer():
+            values = {**values, key: int(value)}  # JSON writers may give 10.0
+        elif expected is float and isinstance(value, int) and not isinstance(value, bool):
+            values = {**values, key: float(value)}
+    try:
+        return kind(**values)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{source}: {name}.{error}") from None
+
+
+def load_params(path: str | Path) -> Params:
+    """Read the parameters of a parameter file (TOML, or JSON for ``.json``).
+
+    Raises:
+        ValueError: naming the file and the key, for a file that cannot be used.
+        OSError: the file cannot be read.
+    """
+    return params_from_table(read_params_file(path), source=str(path))
+
+
+def params_to_toml(params: Params, tuning: dict[str, Any] | None = None) -> str:
+    """A parameter file's text for ``params`` (and a ``[tuning]`` table, if given)."""
+    name = next(n for n, kind in FILTERS.items() if isinstance(params, kind))
+    lines = [f'filter = "{name}"', "", f"[{name}]"]
+    for field in dataclasses.fields(params):
+        lines.append(f"{field.name} = {_toml_value(getattr(params, field.name))}")
+    if tuning:
+        lines += ["", "[tuning]"]
+        lines += [f"{key} = {_toml_value(value)}" for key, value in tuning.items()]
+    return "\n".join(lines) + "\n"
+
+
+def save_params(path: str | Path, params: Params, tuning: dict[str, Any] | None = None) -> None:
+    """Write a parameter file: TOML, or JSON when ``path`` ends in ``.json``."""
+    path = Path(path)
+    if path.suffix.lower() == ".json":
+        name = next(n for n, kind in FILTERS.items() if isinstance(params, kind))
+        table = {"filter": name, name: dataclasses.asdict(params)}
+        if tuning:
+            table["tuning"] = tuning
+        path.write_text(json.dumps(table, indent=1, allow_nan=True) + "\n", encoding="utf-8")
+    else:
+        path.write_text(params_to_toml(params, tuning), encoding="utf-8")
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string is a JSON string
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + " }"
+    raise TypeError(f"cannot write {value!r} to TOML")
