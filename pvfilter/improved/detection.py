@@ -3,18 +3,21 @@
 Per segment of the scan (:mod:`pvfilter.improved.segmentation`):
 
 1. **Evidence**: the share of its points that are new, i.e. in space the level view saw
-   as free (:func:`pvfilter.improved.memory.new_points`), or, with the IMU, on the
-   predicted floor (:mod:`pvfilter.improved.imu`).
+   as free (:func:`pvfilter.improved.memory.new_points`).
 2. **Geometry of a tilted scan plane**: a floor line is straight, across the direction of
    travel, at least ``h / sin(max_tilt)`` from the sensor, and its normal leans from the
    x axis no more than a roll of ``max_roll_deg`` explains. A segment that fails gets no
-   score from the free-space evidence (the IMU's floor evidence needs no geometry).
+   score.
 3. **Score and decision**: ``P(C_pv)`` is that share; the segment is detected when it
    exceeds ``p_th``.
 4. **Extension**: a detected line takes in up to ``extend_beams`` points at each end that
    lie on it (the corner where the local fit straddled line and wall), and, with
    ``spread``, every new point of the scan that lies on it (all floor hits of one scan lie
    on one line: fragments between furniture legs).
+
+With the IMU, the points on its predicted floor (:mod:`pvfilter.improved.imu`) form one
+more cluster of the scan, removed whatever ``p_th`` (score 1): the IMU's evidence needs no
+geometry and no history.
 
 The state the filter carries between scans does not depend on ``p_th``, and each beam's
 claim score (:func:`best_claims`) says at which thresholds it is removed, so one pass over
@@ -23,8 +26,8 @@ a sequence gives the exact result of every threshold of a precision-recall sweep
 The result is a :class:`pvfilter.Detection`, so the paper's removal and result types apply
 unchanged; its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the
 cluster (for information), ``p_theta`` is 1 where the segment passes the geometry gates and
-0 elsewhere, ``p_likelihood`` the share of its points the level view explains
-(1 - the free-space share), ``p_pv`` the score.
+0 elsewhere, ``p_likelihood`` the share of the cluster's points the level view explains
+(1 - the share of new points), ``p_pv`` the score.
 """
 
 from __future__ import annotations
@@ -212,13 +215,16 @@ def detect_lines(
     tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
     gates = geometry_gates(segments, roll, params)
     score = np.where(gates, share_new, 0.0)
-    if floor is not None:
-        score = np.fmax(score, np.bincount(labels, floor[segments.beams], k) / sizes)
-    detected = score > params.p_th
     owner, best = best_claims(segments, score, new_valid, params)
+    # the IMU's floor points form one more cluster, certain (score 1) whatever p_th
+    score, gates = np.append(score, 1.0), np.append(gates, False)
+    if floor is not None:
+        on_floor = floor[segments.beams]
+        owner[on_floor], best[on_floor] = k, 1.0
+    detected = score > params.p_th
     extended = np.where(best > params.p_th, owner, labels)
     # clusters: the detected segments, and the others with at least min_points points
-    final_sizes = np.bincount(extended, minlength=k)
+    final_sizes = np.bincount(extended, minlength=k + 1)
     kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
     cluster_of = np.where(kept, np.cumsum(kept) - 1, -1)
     beam_labels = np.full(n, -1, dtype=np.intp)
@@ -227,21 +233,22 @@ def detect_lines(
     claim_scores = np.zeros(n)
     claim_scores[segments.beams] = best
     candidates = np.zeros(n, dtype=bool)
-    candidates[segments.beams] = (score > CANDIDATE_SHARE)[labels]
+    candidates[segments.beams] = (score[:k] > CANDIDATE_SHARE)[labels]
+    in_cluster = np.bincount(extended, new_valid, k + 1) / np.maximum(final_sizes, 1)
     return LineDetection(
         clusters=clusters,
         v_c=perpendicular_variance_ratio(clusters.variances),
         p_theta=gates[kept].astype(float),
-        p_likelihood=1.0 - share_new[kept],
+        p_likelihood=1.0 - in_cluster[kept],
         p_pv=score[kept],
         detected=detected[kept],
         new_sequence=new_sequence,
         new_points=new,
         floor_points=np.zeros(n, dtype=bool) if floor is None else floor,
         candidates=candidates,
-        line_distances=segments.distances[kept],
-        implied_tilt_rad=tilt[kept],
-        implied_roll_rad=roll[kept],
+        line_distances=np.append(segments.distances, np.nan)[kept],
+        implied_tilt_rad=np.append(tilt, np.nan)[kept],
+        implied_roll_rad=np.append(roll, np.nan)[kept],
         motion=motion,
         claim_scores=claim_scores,
     )

@@ -95,13 +95,19 @@ class ImprovedPitchVariationFilter:
             view = self._memory.view(layout, scan.range_max, motion, params)
         # evidence: returns in previously free space, and the IMU's floor
         new = np.zeros(len(scan), dtype=bool)
+        gaps = np.full(len(scan), np.nan)
         if view is not None:
             gaps = free_space_gaps(ranges, view.ranges, layout, params)
             new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
         floor = None
         if attitude is not None:
+            # near the predicted floor, and not where the level view saw structure (a
+            # wall far ahead is hit just above the floor when the tilt is small)
             floor = np.zeros(len(scan), dtype=bool)
             floor[beams] = floor_points(points[beams], *attitude, params)
+            seen = np.zeros(len(scan), dtype=bool)
+            np.less_equal(gaps, params.imu_floor_tolerance_m, where=~np.isnan(gaps), out=seen)
+            floor &= ~seen
         # detect: score segments, check the tilted-plane geometry, extend the lines
         detection = detect_lines(scan, points, segments, new, floor, params, motion, new_sequence)
         # remember: the level view, and the points the next ego-motion fit may use

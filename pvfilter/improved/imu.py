@@ -45,9 +45,16 @@ def heights_above_floor(
 def floor_points(
     points: np.ndarray, pitch_rad: float, roll_rad: float, params: ImprovedParams
 ) -> np.ndarray:
-    """Per point: it lies on the floor (less than ``imu_floor_tolerance_m`` above it)."""
+    """Per point: it lies on the floor.
+
+    That is, less than ``imu_floor_tolerance_m`` plus ``range * sin(imu_angle_error_deg)``
+    above it: an error in the IMU's angles moves the predicted floor in proportion to
+    the range.
+    """
     heights = heights_above_floor(points, pitch_rad, roll_rad, params)
-    return heights < params.imu_floor_tolerance_m
+    ranges = np.hypot(points[:, 0], points[:, 1])
+    slack = math.sin(math.radians(params.imu_angle_error_deg))
+    return heights < params.imu_floor_tolerance_m + slack * ranges
 
 
 def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[float, float] | None:

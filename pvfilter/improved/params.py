@@ -66,7 +66,10 @@ class ImprovedParams:
         p_th: a segment is removed when the share of its points that are new
             (in previously seen free space) or on the IMU's floor line exceeds this, 1.
         imu_floor_tolerance_m: with pitch and roll given, a point whose height above the
-            floor is below this is on the floor, m (IMU error and tilt lever arm).
+            floor is below this (plus the angle error's share) is on the floor, m: range
+            noise times the tilt, the scanner's height error, the floor's unevenness.
+        imu_angle_error_deg: error of the IMU's pitch and roll (including its lag behind
+            the scan), deg: the floor tolerance grows by ``range * sin`` of it.
         axle_height_m: height the robot tilts about (its wheel axle), m; with the IMU, the
             scanner's height is corrected for the tilt. ``0`` ignores the correction.
     """
@@ -91,7 +94,8 @@ class ImprovedParams:
     extend_tolerance_m: float = 0.06  # m
     spread: bool = True
     p_th: float = 0.5  # 1
-    imu_floor_tolerance_m: float = 0.08  # m
+    imu_floor_tolerance_m: float = 0.02  # m
+    imu_angle_error_deg: float = 0.5  # deg
     axle_height_m: float = 0.08  # m
 
     def __post_init__(self) -> None:
@@ -118,6 +122,7 @@ class ImprovedParams:
         check("extend_tolerance_m", self.extend_tolerance_m, lower=0.0, unit="m", closed=True)
         check("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
         check("imu_floor_tolerance_m", self.imu_floor_tolerance_m, lower=0.0, unit="m")
+        check("imu_angle_error_deg", self.imu_angle_error_deg, lower=0.0, upper=90.0, closed=True)
         check("axle_height_m", self.axle_height_m, lower=0.0, unit="m", closed=True)
         if self.axle_height_m > self.lidar_height_m:
             raise ValueError(

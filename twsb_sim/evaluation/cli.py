@@ -32,6 +32,19 @@ def add_eval_parser(commands: argparse._SubParsersAction) -> None:
         metavar="HOUSE",
         help="house1, house2 or random:<seed> (default: house1 house2 random:1 random:2)",
     )
+    parser.add_argument(
+        "--improved-params",
+        type=Path,
+        metavar="FILE",
+        help="also compare the improved filter with these parameters (a twsb tune file)",
+    )
+    parser.add_argument(
+        "--variations",
+        action="store_true",
+        help="also run held-out random houses and robot variations (LiDAR height, range "
+        "noise, balance controller) for the paper's, the improved filter and the IMU gate",
+    )
+    parser.add_argument("--no-improved", action="store_true", help="leave the improved filter out")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     parser.set_defaults(handler=run_eval)
 
@@ -49,6 +62,12 @@ def run_eval(args: argparse.Namespace) -> int:
         overrides["seeds"] = tuple(range(args.seeds))
     if args.houses:
         overrides["houses"] = tuple(args.houses)
+    if args.improved_params is not None:
+        if not args.improved_params.is_file():
+            raise ConfigError(args.improved_params, "", "no such parameter file")
+        overrides["improved_params"] = str(args.improved_params)
+    overrides["variations"] = args.variations
+    overrides["improved"] = not args.no_improved
     try:
         config = EvalConfig.quick(**overrides) if args.quick else EvalConfig(**overrides)
     except ValueError as error:  # the message names the field: "houses: expected ..."

@@ -34,6 +34,19 @@ IMU_BANDS_M: tuple[float, ...] = (
     0.02, 0.05, 0.1, 0.15, 0.2, 0.22, 0.24, 0.3, 0.5, 1.0, 2.0, 3.0,
 )  # fmt: skip
 DEFAULT_IMU_BAND_M = 0.2  # m, the gate's operating point in the timing pass
+# robustness runs (--variations): random houses no other part of the evaluation uses, and
+# robots that differ from the default one in one respect each
+HELDOUT_HOUSES: tuple[str, ...] = ("random:101", "random:102", "random:103", "random:104")
+VARIATION_HOUSES: tuple[str, ...] = ("random:101", "random:102")
+ROBOT_VARIATIONS: dict[str, dict[str, dict[str, float]]] = {
+    "default robot": {},
+    "LiDAR at 0.15 m": {"robot": {"lidar_height_m": 0.15}},
+    "LiDAR at 0.40 m": {"robot": {"lidar_height_m": 0.40}},
+    "range noise 1 cm": {"lidar": {"range_noise_std_m": 0.01}},
+    "range noise 5 cm": {"lidar": {"range_noise_std_m": 0.05}},
+    "softer balance (aggressiveness 0.5)": {"controller": {"aggressiveness": 0.5}},
+    "stiffer balance (aggressiveness 2)": {"controller": {"aggressiveness": 2.0}},
+}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,6 +67,15 @@ class EvalConfig:
         max_events_per_run: at most this many pitch-variation events per run go to the
             scan-matching experiment (None: all).
         example_frames: example frames pictured per sequence by the miss diagnosis.
+        improved: also evaluate the improved filter (side by side, ablation).
+        improved_params: a parameter file of tuned improved-filter parameters to compare
+            too (``twsb tune`` writes one), or None.
+        variations: also run the robustness runs: the sequences in ``heldout_houses``,
+            and in ``variation_houses`` with every robot of ``robot_variations``.
+        heldout_houses: houses for the held-out runs.
+        variation_houses: houses for the robot-variation runs.
+        robot_variations: name -> overrides (tables ``robot``, ``lidar``, ``controller``
+            of a scenario file).
     """
 
     sequences: tuple[str, ...] = SEQUENCES
@@ -67,6 +89,12 @@ class EvalConfig:
     duration_s: float | None = None
     max_events_per_run: int | None = None
     example_frames: int = 3
+    improved: bool = True
+    improved_params: str | None = None
+    variations: bool = False
+    heldout_houses: tuple[str, ...] = HELDOUT_HOUSES
+    variation_houses: tuple[str, ...] = VARIATION_HOUSES
+    robot_variations: dict = dataclasses.field(default_factory=lambda: dict(ROBOT_VARIATIONS))
 
     def __post_init__(self) -> None:
         if not self.sequences or not self.houses or not self.seeds:
@@ -77,6 +105,8 @@ class EvalConfig:
             parse_house(house)
         if "pvf" not in self.families or not set(self.families) <= set(FAMILIES):
             raise ValueError(f"families: pvf and any of {', '.join(FAMILIES)}, got {self.families}")
+        for house in (*self.heldout_houses, *self.variation_houses):
+            parse_house(house)
 
     @classmethod
     def quick(cls, **overrides: object) -> EvalConfig:
@@ -90,6 +120,9 @@ class EvalConfig:
             duration_s=8.0,
             max_events_per_run=2,
             example_frames=1,
+            heldout_houses=("random:101",),
+            variation_houses=("random:101",),
+            robot_variations={k: ROBOT_VARIATIONS[k] for k in ("default robot", "LiDAR at 0.15 m")},
         )
         return cls(**{**settings, **overrides})
 

@@ -30,9 +30,10 @@ from twsb_sim.evaluation.config import (
     parse_house,
 )
 from twsb_sim.evaluation.diagnosis import RunDiagnosis, diagnose_run
+from twsb_sim.evaluation.improved import ImprovedEvaluation
 from twsb_sim.evaluation.methods import DatmoMethod, ImuGateMethod, PvfMethod
 from twsb_sim.evaluation.passes import operating_pass, score_sweep_counts, sweep_counts
-from twsb_sim.evaluation.recording import Recording, record, sequence_in_house
+from twsb_sim.evaluation.recording import Recording, record, sequence_in_house, with_robot
 from twsb_sim.evaluation.scan_matching import align, pitch_variation_runs, summarize
 
 # method families: key -> label; each has a sweep and an operating point
@@ -82,6 +83,11 @@ class Evaluation:
     events: dict = dataclasses.field(default_factory=lambda: defaultdict(int))
     diagnoses: dict = dataclasses.field(default_factory=lambda: defaultdict(RunDiagnosis))
     wall_s: float = 0.0
+    improved: ImprovedEvaluation | None = None
+
+    def __post_init__(self) -> None:
+        if self.config.improved and self.improved is None:
+            self.improved = ImprovedEvaluation(self.config)
 
     def add_run(self, recording: Recording, progress: bool = False) -> None:
         """Replay one recorded run through every method and experiment."""
@@ -119,7 +125,12 @@ class Evaluation:
             key = (seq, family)
             self.counts[key] = self.counts.get(key, 0) + counts
             row["auc"][family] = pr_curve(values, *counts.T).auc
+            if family == "pvf":
+                pvf_counts = counts
         self.run_rows.append(row)
+        # the improved filter beside the paper's (it reuses the paper filter's sweep)
+        if self.improved is not None:
+            self.improved.add_run(recording, "sequences", seq, paper_counts=pvf_counts)
         # 3. why the filter misses, at Table I
         params = FilterParams()
         self.diagnoses[seq].merge(
@@ -194,6 +205,7 @@ class Evaluation:
             },
             "scan_matching": matching,
             "diagnosis": {seq: _diagnosis_json(d) for seq, d in self.diagnoses.items()},
+            **({"improved": self.improved.results()} if self.improved is not None else {}),
         }
 
     def _matching(self, alignments: list, events: int) -> dict:
@@ -248,5 +260,26 @@ def run_evaluation(config: EvalConfig, progress: bool = True) -> tuple[dict, Eva
         name, house_seed = parse_house(house_text)
         scenario, house = sequence_in_house(sequence, name, house_seed, config.duration_s)
         evaluation.add_run(record(scenario, house, seed), progress)
+    if config.variations and evaluation.improved is not None:
+        robustness_runs(evaluation.improved, progress)
     evaluation.wall_s = time.perf_counter() - started
     return evaluation.results(), evaluation
+
+
+def robustness_runs(improved: ImprovedEvaluation, progress: bool = True) -> None:
+    """The held-out houses (default robot) and the robot variations, seed 0."""
+    config = improved.config
+    runs = [("heldout", seq, seq, house, {}) for seq in config.sequences
+            for house in config.heldout_houses]  # fmt: skip
+    runs += [
+        ("variations", name, seq, house, overrides)
+        for name, overrides in config.robot_variations.items()
+        for seq in config.sequences
+        for house in config.variation_houses
+    ]
+    bar = tqdm(runs, desc="robustness runs", unit="run", disable=not progress)
+    for group, key, sequence, house_text, overrides in bar:
+        bar.set_postfix_str(f"{key} {house_text}")
+        name, house_seed = parse_house(house_text)
+        scenario, house = sequence_in_house(sequence, name, house_seed, config.duration_s)
+        improved.add_run(record(with_robot(scenario, overrides), house, 0), group, key)

@@ -13,7 +13,13 @@ from typing import Protocol
 
 import numpy as np
 
-from pvfilter import FilterParams, FilterResult, PitchVariationFilter
+from pvfilter import (
+    FilterParams,
+    FilterResult,
+    ImprovedParams,
+    ImprovedPitchVariationFilter,
+    PitchVariationFilter,
+)
 from twsb_sim.frame import Frame, RobotTruth
 
 
@@ -63,6 +69,35 @@ class PvfMethod:
     def process(self, frame: Frame) -> np.ndarray:
         self.last_result = self.filter.process(frame.scan)
         return self.last_result.removed
+
+
+class ImprovedMethod:
+    """The improved filter; with ``imu`` it is also given the IMU's pitch and roll.
+
+    Its state does not depend on ``p_th``, and a beam is removed exactly when its score
+    exceeds ``p_th``, so one pass gives every threshold (:meth:`beam_scores`).
+    """
+
+    def __init__(
+        self, params: ImprovedParams | None = None, imu: bool = False, name: str = "improved"
+    ) -> None:
+        self.name = name
+        self.imu = imu
+        self.filter = ImprovedPitchVariationFilter(params)
+        self.last_result: FilterResult | None = None
+
+    def reset(self) -> None:
+        self.filter.reset()
+        self.last_result = None
+
+    def process(self, frame: Frame) -> np.ndarray:
+        attitude = imu_pitch_roll(frame.truth.imu_quat) if self.imu else (None, None)
+        self.last_result = self.filter.process(frame.scan, *attitude)
+        return self.last_result.removed
+
+    def beam_scores(self) -> np.ndarray:
+        """Per beam of the last frame: removed at ``p_th`` exactly when this exceeds it."""
+        return self.last_result.scores
 
 
 class DatmoMethod:

@@ -96,6 +96,16 @@ def sequence_in_house(
     return scenario, house
 
 
+def with_robot(scenario: Scenario, overrides: dict[str, dict[str, float]]) -> Scenario:
+    """``scenario`` with a different robot: ``overrides`` holds tables ``robot``, ``lidar``
+    and ``controller`` of field -> value (as in a scenario file)."""
+    changes = {
+        table: dataclasses.replace(getattr(scenario, table), **values)
+        for table, values in overrides.items()
+    }
+    return dataclasses.replace(scenario, **changes)
+
+
 def record(scenario: Scenario, house: House, seed: int, progress: bool = False) -> Recording:
     """Simulate ``scenario`` once (no filter in the loop) and keep every frame.
 

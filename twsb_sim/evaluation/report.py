@@ -15,6 +15,7 @@ from twsb_sim.evaluation import plots
 from twsb_sim.evaluation.diagnosis import MISS_STAGES
 from twsb_sim.evaluation.experiment import LABELS, Evaluation
 from twsb_sim.evaluation.frame_pictures import render_snapshot
+from twsb_sim.evaluation.improved_report import plot_improved, render_improved_section
 from twsb_sim.evaluation.scan_matching import CONDITIONS
 
 PAPER = {  # DESIGN.md, "Reference numbers from the paper"
@@ -24,6 +25,7 @@ PAPER = {  # DESIGN.md, "Reference numbers from the paper"
     "datmo_rate_hz": 67.55,
     "chamfer_reduction_pct": {"icp": 24.31, "ndt": 37.10, "hsm": 54.69},
 }
+IMPROVED_PLOT = "improved_pr_curves.png"  # written when the improved filter was evaluated
 REPORT_FILES = (
     "report.md",
     "results.json",
@@ -42,6 +44,8 @@ def write_outputs(results: dict, evaluation: Evaluation, out_dir: Path, command:
     plots.plot_timing(results, out_dir / "timing.png")
     plots.plot_chamfer(results, out_dir / "chamfer.png")
     plots.plot_pose_errors(results, out_dir / "pose_errors.png")
+    if "improved" in results:
+        plot_improved(results, out_dir / IMPROVED_PLOT)
     results["examples"] = _write_examples(evaluation, out_dir)
     (out_dir / "results.json").write_text(json.dumps(_strict(results), indent=1) + "\n")
     (out_dir / "report.md").write_text(render_report(results))
@@ -93,8 +97,9 @@ def render_report(results: dict) -> str:
         _timing_section(results),
         _matching_section(results),
         _diagnosis_section(results),
+        render_improved_section(results),
     ]
-    return "\n\n".join(sections) + "\n"
+    return "\n\n".join(s for s in sections if s) + "\n"
 
 
 def _overview(results: dict) -> str:

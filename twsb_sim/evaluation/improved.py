@@ -1,0 +1,255 @@
+"""The improved filter in the evaluation: beside the paper's, its ablation, and robustness.
+
+For every run of the main evaluation, and for the robustness runs (held-out random houses
+and robot variations, ``twsb eval --variations``):
+
+- **side by side**: the paper's filter (Table I, the P_th sweep run afresh per value),
+  the improved filter with its defaults, with a tuned parameter file
+  (``--improved-params``), and with the IMU's pitch and roll, and the IMU height gate;
+- **ablation** (main runs): the improved filter with one part switched off at a time;
+- per method: PR curve and AUC, precision and recall at its operating point, the share of
+  STATIC beams it removes over whole sequences, and (main runs) its rate, timed in the
+  same loop as the paper's filter.
+
+The improved filter's state does not depend on ``p_th`` and its scores say at which
+thresholds a beam is removed, so one pass over a run gives its whole sweep, exactly.
+The improved filter is always told the robot's LiDAR and axle heights (a user knows them).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections import defaultdict
+from collections.abc import Callable
+
+import numpy as np
+
+from pvfilter import FilterParams, ImprovedParams, load_params
+from scaneval.metrics import pr_curve
+from twsb_sim.evaluation.config import DEFAULT_IMU_BAND_M, EvalConfig
+from twsb_sim.evaluation.methods import ImprovedMethod, ImuGateMethod, PvfMethod
+from twsb_sim.evaluation.passes import beam_truth, sweep_counts
+from twsb_sim.evaluation.recording import Recording
+from twsb_sim.labels import BeamLabel
+
+# ablation: name -> (what is switched off, how)
+ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
+    "full": ("nothing (the defaults)", lambda p: p),
+    "no_ego_motion": (
+        "ego-motion: the level view is not moved",
+        lambda p: _set(p, ego_motion=False),
+    ),
+    "previous_scan_only": (
+        "level-view memory: compare with the previous scan only",
+        lambda p: _set(p, memory_shrink_mps=float("inf")),
+    ),
+    "no_line_split": (
+        "segmentation by line direction: segments split at range jumps only",
+        lambda p: _set(p, line_angle_deg=90.0),
+    ),
+    "no_geometry_gates": (
+        "tilted-plane gates (distance, implied roll)",
+        lambda p: _set(p, max_roll_deg=90.0, max_tilt_deg=90.0),
+    ),
+    "no_extension": ("line extension at the ends", lambda p: _set(p, extend_beams=0)),
+    "no_spread": ("spreading a line over its fragments", lambda p: _set(p, spread=False)),
+    "no_settle": (
+        "settling the view after max_event_s",
+        lambda p: _set(p, max_event_s=float("inf")),
+    ),
+}
+
+
+def _set(params: ImprovedParams, **changes: object) -> ImprovedParams:
+    return dataclasses.replace(params, **changes)
+
+
+def robot_params(params: ImprovedParams, recording: Recording) -> ImprovedParams:
+    """``params`` with the recorded robot's LiDAR and axle heights."""
+    return _set(
+        params, lidar_height_m=recording.lidar_height_m, axle_height_m=recording.axle_height_m
+    )
+
+
+@dataclasses.dataclass
+class Tally:
+    """What one method gave over some runs: sweep counts and STATIC beams at its operating
+    point."""
+
+    thresholds: tuple[float, ...]
+    operating_point: float
+    counts: np.ndarray | None = None  # (k, 3): tp, fp, fn per threshold
+    static_removed: int = 0
+    static_total: int = 0
+
+    def add(self, counts: np.ndarray, static_removed: int, static_total: int) -> None:
+        self.counts = counts if self.counts is None else self.counts + counts
+        self.static_removed += static_removed
+        self.static_total += static_total
+
+    def summary(self) -> dict:
+        curve = pr_curve(self.thresholds, *self.counts.T)
+        at = self.thresholds.index(self.operating_point)
+        return {
+            "auc": curve.auc,
+            "operating_point": self.operating_point,
+            "precision": float(curve.precision[at]),
+            "recall": float(curve.recall[at]),
+            "static_removed_pct": 100.0 * self.static_removed / max(self.static_total, 1),
+            "thresholds": list(self.thresholds),
+            "precision_curve": curve.precision.tolist(),
+            "recall_curve": curve.recall.tolist(),
+        }
+
+
+def one_pass(
+    recording: Recording, method: ImprovedMethod, thresholds: tuple[float, ...], op: float
+) -> tuple[np.ndarray, int, int, np.ndarray]:
+    """Sweep counts, STATIC beams removed at ``op`` and per-frame seconds, from one pass."""
+    values = np.asarray(thresholds)[:, None]
+    counts = np.zeros((len(thresholds), 3), dtype=np.int64)
+    static_removed = static_total = 0
+    seconds = np.zeros(len(recording.frames))
+    method.reset()
+    for k, frame in enumerate(recording.frames):
+        start = time.perf_counter()
+        method.process(frame)
+        seconds[k] = time.perf_counter() - start
+        positive, finite = beam_truth(frame)
+        removed = (method.beam_scores()[None, :] > values) & finite
+        tp = np.count_nonzero(removed & positive, axis=1)
+        fn = np.count_nonzero(positive & finite) - tp
+        counts += np.stack((tp, removed.sum(axis=1) - tp, fn), axis=1)
+        static = (frame.labels == BeamLabel.STATIC) & finite
+        static_removed += int(np.count_nonzero(method.beam_scores()[static] > op))
+        static_total += int(np.count_nonzero(static))
+    return counts, static_removed, static_total, seconds
+
+
+def static_at(recording: Recording, method) -> tuple[int, int]:
+    """STATIC beams a method removes over a run, and all STATIC beams with a finite range."""
+    method.reset()
+    removed = total = 0
+    for frame in recording.frames:
+        mask = np.asarray(method.process(frame), dtype=bool)
+        static = (frame.labels == BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
+        removed += int(np.count_nonzero(mask & static))
+        total += int(np.count_nonzero(static))
+    return removed, total
+
+
+@dataclasses.dataclass
+class ImprovedEvaluation:
+    """The improved filter's results so far: (group, key) -> method -> :class:`Tally`.
+
+    Groups: ``sequences`` (keyed by sequence), ``ablation`` (sequence), ``heldout``
+    (sequence) and ``variations`` (robot condition).
+    """
+
+    config: EvalConfig
+    tuned: ImprovedParams | None = None
+    tallies: dict = dataclasses.field(default_factory=lambda: defaultdict(dict))
+    seconds: dict = dataclasses.field(default_factory=lambda: defaultdict(list))
+    labels: dict = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.config.improved_params and self.tuned is None:
+            tuned = load_params(self.config.improved_params)
+            if not isinstance(tuned, ImprovedParams):
+                raise ValueError(f"{self.config.improved_params}: not improved-filter parameters")
+            self.tuned = tuned
+
+    def improved_methods(self, recording: Recording) -> dict[str, tuple[str, ImprovedMethod]]:
+        """name -> (label, method) of the improved filter's variants compared."""
+        default = robot_params(ImprovedParams(), recording)
+        methods = {
+            "improved": ("improved (defaults)", ImprovedMethod(default)),
+            "improved_imu": ("improved + IMU", ImprovedMethod(default, imu=True)),
+        }
+        if self.tuned is not None:
+            tuned = robot_params(self.tuned, recording)
+            methods["improved_tuned"] = ("improved (tuned)", ImprovedMethod(tuned))
+        return methods
+
+    def _tally(self, group: str, key: str, name: str, thresholds, op) -> Tally:
+        return self.tallies[(group, key)].setdefault(name, Tally(tuple(thresholds), op))
+
+    def add_run(self, recording: Recording, group: str, key: str, paper_counts=None) -> None:
+        """Replay one run through the compared methods (and, for main runs, the ablation).
+
+        Args:
+            recording: the run.
+            group: ``sequences``, ``heldout`` or ``variations``.
+            key: the sequence or the robot condition.
+            paper_counts: the paper filter's P_th sweep counts of this run, when the main
+                evaluation has them already (they are then not computed again).
+        """
+        config = self.config
+        p_th = tuple(config.p_th_values)
+        # the paper's filter: the P_th sweep run afresh per value, STATIC at Table I
+        if paper_counts is None:
+            paper_counts = sweep_counts(recording, lambda v: PvfMethod(FilterParams(p_th=v)), p_th)
+        paper_op = FilterParams().p_th
+        self.labels["pvf"] = "paper PVF (Table I)"
+        self._tally(group, key, "pvf", p_th, paper_op).add(
+            paper_counts, *static_at(recording, PvfMethod(FilterParams()))
+        )
+        # the IMU height gate: stateless, its band sweep is cheap
+        bands = tuple(config.imu_bands_m)
+        gate = lambda band: ImuGateMethod(recording.lidar_height_m, band, recording.axle_height_m)  # noqa: E731
+        self.labels["imu_gate"] = "IMU height gate"
+        self._tally(group, key, "imu_gate", bands, DEFAULT_IMU_BAND_M).add(
+            sweep_counts(recording, gate, bands), *static_at(recording, gate(DEFAULT_IMU_BAND_M))
+        )
+        # the improved filter's variants: one pass each gives the whole sweep
+        for name, (label, method) in self.improved_methods(recording).items():
+            self.labels[name] = label
+            op = method.filter.params.p_th
+            counts, removed, total, seconds = one_pass(recording, method, p_th, op)
+            self._tally(group, key, name, p_th, op).add(counts, removed, total)
+            if group == "sequences":
+                self.seconds[name].append(seconds)
+        if group == "sequences":
+            self._ablation(recording, key, p_th)
+            self._time_against_paper(recording)
+
+    def _ablation(self, recording: Recording, key: str, p_th: tuple[float, ...]) -> None:
+        base = robot_params(ImprovedParams(), recording)
+        for name, (_, change) in ABLATION.items():
+            method = ImprovedMethod(change(base))
+            counts, removed, total, _ = one_pass(recording, method, p_th, base.p_th)
+            self._tally("ablation", key, name, p_th, base.p_th).add(counts, removed, total)
+
+    def _time_against_paper(self, recording: Recording) -> None:
+        """Paper's filter and improved filter called in turn on each frame, timed."""
+        paper = PvfMethod(FilterParams())
+        improved = ImprovedMethod(robot_params(ImprovedParams(), recording))
+        seconds = np.zeros((2, len(recording.frames)))
+        for method in (paper, improved):
+            method.reset()
+        for k, frame in enumerate(recording.frames):
+            for row, method in enumerate((paper, improved)):
+                start = time.perf_counter()
+                method.process(frame)
+                seconds[row, k] = time.perf_counter() - start
+        self.seconds["same_loop_paper"].append(seconds[0])
+        self.seconds["same_loop_improved"].append(seconds[1])
+
+    def results(self) -> dict:
+        """Every figure of this part, JSON-ready (see :mod:`twsb_sim.evaluation.report`)."""
+        out: dict = {"labels": dict(self.labels), "ablation_switches": {
+            name: what for name, (what, _) in ABLATION.items()}}  # fmt: skip
+        for (group, key), tallies in self.tallies.items():
+            out.setdefault(group, {})[key] = {n: t.summary() for n, t in tallies.items()}
+        timing = {}
+        for name, chunks in self.seconds.items():
+            seconds = np.concatenate(chunks)
+            timing[name] = {
+                "frames": int(seconds.size),
+                "mean_ms": 1e3 * float(seconds.mean()),
+                "rate_hz": float(1.0 / seconds.mean()),
+            }
+        out["timing"] = timing
+        out["tuned_params"] = dataclasses.asdict(self.tuned) if self.tuned is not None else None
+        return out
