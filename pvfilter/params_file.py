@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -105,7 +106,7 @@ def params_to_toml(params: Params, tuning: dict[str, Any] | None = None) -> str:
         lines.append(f"{field.name} = {_toml_value(getattr(params, field.name))}")
     if tuning:
         lines += ["", "[tuning]"]
-        lines += [f"{key} = {_toml_value(value)}" for key, value in tuning.items()]
+        lines += [f"{_toml_key(key)} = {_toml_value(value)}" for key, value in tuning.items()]
     return "\n".join(lines) + "\n"
 
 
@@ -120,6 +121,11 @@ def save_params(path: str | Path, params: Params, tuning: dict[str, Any] | None 
         path.write_text(json.dumps(table, indent=1, allow_nan=True) + "\n", encoding="utf-8")
     else:
         path.write_text(params_to_toml(params, tuning), encoding="utf-8")
+
+
+def _toml_key(key: str) -> str:
+    """A bare key when it may be one, else a quoted key."""
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
 
 
 def _toml_value(value: Any) -> str:
@@ -138,5 +144,6 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, list | tuple):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     if isinstance(value, dict):
-        return "{ " + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + " }"
+        pairs = (f"{_toml_key(k)} = {_toml_value(v)}" for k, v in value.items())
+        return "{ " + ", ".join(pairs) + " }"
     raise TypeError(f"cannot write {value!r} to TOML")

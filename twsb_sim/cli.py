@@ -18,6 +18,7 @@ from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
 from twsb_sim.rerun_log.recording import add_recording_args
 from twsb_sim.slam.cli import add_slam_parser
+from twsb_sim.tuning.cli import add_tune_parser
 
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
@@ -101,6 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_eval_parser(commands)
     add_dataset_commands(commands)  # generate, export-bag
     add_slam_parser(commands)
+    add_tune_parser(commands)
     return parser
 
 

@@ -62,6 +62,7 @@ class ImprovedPitchVariationFilter:
     def reset(self) -> None:
         """Forget the history: the next scan starts a new sequence."""
         self._new_sequence = True
+        self._previous_stamp = None
 
     def process(
         self, scan: Scan, pitch_rad: float | None = None, roll_rad: float | None = None

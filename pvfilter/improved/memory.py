@@ -83,7 +83,7 @@ class LevelMemory:
         ages[target] = state.ages[source]
         ahead[target] = state.ahead_s[source]
         _fill_single_holes(level, ages, ahead)
-        level[level >= range_max] = np.inf
+        level[level >= range_max - 1e-6] = np.inf  # free space stays free (rounding)
         level[ages > params.memory_timeout_s] = np.nan
         return LevelView(level, ages, ahead)
 

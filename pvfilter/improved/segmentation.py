@@ -4,7 +4,8 @@ A tilted scan plane meets the floor along the straight line ``x = h / sin(pitch)
 sensor frame, across the direction of travel, and meets the walls beside it in one
 continuous curve: distance-based clustering joins the two (the paper's filter then sees a
 cluster that is mostly wall). Here every point gets the direction of a line fitted to
-its neighbours in scan order, and a segment is a run of consecutive points that
+its neighbours in scan order (not across a range jump), and a segment is a run of
+consecutive points that
 
 - are at most ``break_distance_m`` (plus 2 % of the range) apart, and
 - all lie on a line across the direction of travel (local direction within
@@ -25,15 +26,20 @@ import numpy as np
 from pvfilter.improved.params import ImprovedParams
 
 
-def local_directions(points: np.ndarray, half_width: int) -> np.ndarray:
+def local_directions(
+    points: np.ndarray, half_width: int, runs: np.ndarray | None = None
+) -> np.ndarray:
     """Direction of the line through each point and its neighbours in scan order, rad.
 
     A total-least-squares fit over the ``2 * half_width + 1`` points around each point
-    (fewer at the ends), from running sums, so the cost is linear in the points.
+    (fewer at the ends of the scan or of its run), from running sums, so the cost is
+    linear in the points.
 
     Args:
         points: valid points in beam order, sensor frame, m, shape ``(m, 2)``.
         half_width: neighbours on each side, points.
+        runs: run id per point (ascending); a fit never reaches into another run (across
+            a range jump). None: one run.
 
     Returns:
         Angle of each local line from the x axis, in ``(-pi/2, pi/2]``, shape ``(m,)``.
@@ -43,6 +49,10 @@ def local_directions(points: np.ndarray, half_width: int) -> np.ndarray:
         return np.zeros(0)
     at = np.arange(m)
     low, high = np.clip(at - half_width, 0, m), np.clip(at + half_width + 1, 0, m)
+    if runs is not None:
+        ids = np.arange(runs[-1] + 1)
+        low = np.maximum(low, np.searchsorted(runs, ids)[runs])
+        high = np.minimum(high, np.searchsorted(runs, ids, side="right")[runs])
     x, y = points[:, 0], points[:, 1]
     # running sums of x, y, xx, yy, xy in one pass; a window's sum is a difference of two
     running = np.zeros((5, m + 1))
@@ -106,16 +116,17 @@ def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) 
         beams: their beam indices, ascending.
         params: ``local_fit_beams``, ``line_angle_deg`` and ``break_distance_m`` are used.
     """
-    directions = local_directions(points, params.local_fit_beams)
-    across = np.abs(np.sin(directions)) > math.cos(math.radians(params.line_angle_deg))
     x, y = points[:, 0], points[:, 1]
+    jumps = np.hypot(np.diff(x), np.diff(y)) > params.break_distance_m + 0.02 * np.hypot(
+        x[1:], y[1:]
+    )
+    runs = np.concatenate(([0], np.cumsum(jumps))) if len(points) else np.zeros(0, np.intp)
+    directions = local_directions(points, params.local_fit_beams, runs)
+    across = np.abs(np.sin(directions)) > math.cos(math.radians(params.line_angle_deg))
     if len(points) == 0:
         labels = np.zeros(0, dtype=np.intp)
     else:
-        steps = np.hypot(np.diff(x), np.diff(y))
-        ranges = np.hypot(x[1:], y[1:])
-        cut = (steps > params.break_distance_m + 0.02 * ranges) | (across[1:] != across[:-1])
-        labels = np.concatenate(([0], np.cumsum(cut)))
+        labels = np.concatenate(([0], np.cumsum(jumps | (across[1:] != across[:-1]))))
     k = int(labels[-1]) + 1 if len(labels) else 0
     sizes = np.bincount(labels, minlength=k)
     mean_x = np.bincount(labels, x, k) / sizes

@@ -1,0 +1,70 @@
+"""Scans of a room from a moving, pitching sensor, ray-cast by pvfilter.synthetic."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pvfilter.synthetic import BLOCKED_SECTOR, ray_cast, room_segments, segment_scan
+
+HEIGHT_M = 0.25  # the scan plane's height above the floor, m
+ROOM = room_segments(4.0, 4.0, 2.5, 2.5)  # world frame, m: 8 m x 5 m around the origin
+
+
+def to_sensor(segments: np.ndarray, pose: tuple[float, float, float]) -> np.ndarray:
+    """World segments in the frame of a sensor at ``pose`` (x m, y m, yaw rad)."""
+    x, y, yaw = pose
+    c, s = math.cos(yaw), math.sin(yaw)
+    shifted = segments - np.array([x, y])
+    return shifted @ np.array([[c, -s], [s, c]])
+
+
+def floor_line(pitch_rad: float, half_width: float = 10.0) -> np.ndarray:
+    """Where a plane pitched by ``pitch_rad`` (nose down > 0) meets the floor: a segment
+    across the sensor's x axis at ``h / sin(pitch)``, ahead or behind."""
+    x = HEIGHT_M / math.sin(pitch_rad)
+    return np.array([[[x, -half_width], [x, half_width]]])
+
+
+def room_scan(
+    pose=(0.0, 0.0, 0.0),
+    pitch_rad: float = 0.0,
+    stamp: float = 0.0,
+    noise_m: float = 0.01,
+    seed: int = 0,
+    extra: np.ndarray | None = None,
+):
+    """A 720-beam scan of the room from ``pose``; with a pitch, the floor line too.
+
+    Returns:
+        The scan, and per beam whether it hit the floor line.
+    """
+    structure = to_sensor(ROOM, pose)
+    if extra is not None:
+        structure = np.concatenate((structure, to_sensor(extra, pose)))
+    floor = np.zeros((0, 2, 2)) if abs(pitch_rad) < 1e-6 else floor_line(pitch_rad)
+    rng = np.random.default_rng(seed)
+    scan = segment_scan(
+        np.concatenate((structure, floor)),
+        stamp=stamp,
+        noise_m=noise_m,
+        rng=rng,
+        blocked=BLOCKED_SECTOR,
+    )
+    angles = scan.angles()
+    on_floor = np.isfinite(scan.ranges) & (ray_cast(floor, angles) < ray_cast(structure, angles))
+    return scan, on_floor
+
+
+def pitch_event(start: int, length: int, peak_deg: float):
+    """Pitch per frame, rad: 0, then a smooth rise to ``peak_deg`` and back over ``length``
+    frames from frame ``start``."""
+
+    def pitch(k: int) -> float:
+        phase = (k - start) / max(length - 1, 1)
+        if not 0.0 <= phase <= 1.0:
+            return 0.0
+        return math.radians(peak_deg) * math.sin(math.pi * phase)
+
+    return pitch

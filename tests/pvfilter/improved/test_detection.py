@@ -1,0 +1,88 @@
+"""Detection: the tilted-plane gates, extension and spread claims, claim scores."""
+
+import math
+
+import numpy as np
+
+from pvfilter.improved import ImprovedParams, segment_scan
+from pvfilter.improved.detection import (
+    best_claims,
+    extension_claims,
+    geometry_gates,
+    spread_claims,
+)
+
+from .conftest import HEIGHT_M
+
+PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M)
+
+
+def line(x0, y0, x1, y1, count=40):
+    return np.column_stack((np.linspace(x0, x1, count), np.linspace(y0, y1, count)))
+
+
+def segments_of(*parts):
+    points = np.concatenate(parts)
+    return segment_scan(points, np.arange(len(points)), PARAMS)
+
+
+def gates_of(*parts):
+    segments = segments_of(*parts)
+    _, roll = segments.implied_tilt_roll(HEIGHT_M)
+    return geometry_gates(segments, roll, PARAMS)
+
+
+def test_a_floor_line_across_the_direction_of_travel_passes():
+    assert gates_of(line(1.5, -1.0, 1.5, 1.0)).tolist() == [True]
+
+
+def test_a_wall_along_the_direction_of_travel_fails():
+    assert gates_of(line(0.5, 1.2, 3.0, 1.2)).tolist() == [False]
+
+
+def test_a_line_nearer_than_the_largest_tilt_allows_fails():
+    near = PARAMS.min_line_distance_m * 0.8
+    assert gates_of(line(near, -0.3, near, 0.3)).tolist() == [False]
+
+
+def test_a_line_that_needs_more_roll_than_the_robot_has_fails():
+    # 1.5 m away (tilt 9.6 deg), leaning 40 deg: a roll of about 6 deg
+    lean = math.radians(40.0)
+    points = line(0.0, -0.8, 0.0, 0.8) @ np.array(
+        [[math.cos(lean), math.sin(lean)], [-math.sin(lean), math.cos(lean)]]
+    ) + np.array([1.5 / math.cos(lean), 0.0])
+    assert gates_of(points).tolist() == [False]
+
+
+def test_extension_takes_the_points_on_the_line_up_to_the_corner():
+    floor = line(1.5, -1.0, 1.5, 1.0)
+    corner = line(1.5, 1.05, 1.5, 1.2, 4)  # still on the line
+    wall = line(1.6, 1.2, 3.0, 1.2, 20)  # the side wall
+    segments = segments_of(floor, corner, wall)
+    lines = np.array([segments.labels[0]])
+    points, owners = extension_claims(segments, lines, PARAMS)
+    covered = set(np.flatnonzero(segments.labels == lines[0]).tolist()) | set(points.tolist())
+    assert set(range(44)) <= covered  # the whole line, corner included
+    assert not set(range(44, 64)) & covered  # no wall point
+    assert set(owners.tolist()) == {segments.labels[0]}
+
+
+def test_spread_claims_new_fragments_on_the_line_on_its_side_only():
+    main = line(2.0, -0.5, 2.0, 0.5)
+    fragment = line(2.0, 1.0, 2.0, 1.1, 3)  # between furniture legs
+    behind = line(-2.0, 1.0, -2.0, 1.1, 3)  # the mirror image behind: not on the line
+    segments = segments_of(main, fragment, behind)
+    new = np.ones(46, dtype=bool)
+    points, _ = spread_claims(segments, np.array([segments.labels[0]]), new, PARAMS)
+    assert set(range(40, 43)) <= set(points.tolist())
+    assert not set(range(43, 46)) & set(points.tolist())
+
+
+def test_the_best_claim_wins():
+    floor = line(1.5, -1.0, 1.5, 1.0)
+    tail = line(1.5, 1.05, 1.5, 1.2, 4)
+    segments = segments_of(floor, tail)
+    score = np.zeros(len(segments))
+    score[segments.labels[0]] = 0.8
+    owner, best = best_claims(segments, score, np.zeros(44, bool), PARAMS)
+    assert (owner == segments.labels[0]).all() and (best == 0.8).all()

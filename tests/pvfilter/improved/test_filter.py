@@ -1,0 +1,129 @@
+"""ImprovedPitchVariationFilter: the API contract, whole pitch events, the IMU option."""
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from pvfilter import (
+    FilterResult,
+    ImprovedParams,
+    ImprovedPitchVariationFilter,
+    Scan,
+    StampWentBackWarning,
+)
+
+from .conftest import HEIGHT_M, pitch_event, room_scan
+
+CLUTTER = np.array([[[1.5, 1.0], [2.0, 1.2]], [[-2.0, -1.0], [-1.2, -1.6]]])  # world, m
+
+
+def drive(frames=40, speed=0.6, event=(10, 8, 8.0), **kwargs):
+    """Scans of the sensor driving forward in the room, with one pitch event."""
+    pitch = pitch_event(*event)
+    for k in range(frames):
+        pose = (-1.0 + speed * 0.1 * k, 0.0, 0.0)
+        yield room_scan(pose, pitch(k), stamp=0.1 * k, seed=k, extra=CLUTTER, **kwargs), pitch(k)
+
+
+def run(pvf, frames, imu=False):
+    results, truth = [], []
+    for (scan, on_floor), pitch in frames:
+        results.append(pvf.process(scan, pitch) if imu else pvf.process(scan))
+        truth.append(on_floor)
+    return results, truth
+
+
+def test_result_follows_the_contract():
+    (scan, _), _ = next(drive(frames=1))
+    result = ImprovedPitchVariationFilter().process(scan)
+    assert isinstance(result, FilterResult)
+    assert result.removed.dtype == bool and result.removed.shape == (len(scan),)
+    assert result.scores.dtype == np.float64 and result.scores.shape == (len(scan),)
+    assert isinstance(result.scan, Scan) and len(result.scan) == len(scan)
+    for record in result.clusters:
+        assert {"indices", "centroid", "v_c", "p_theta", "p_likelihood", "p_pv"} <= set(
+            f.name for f in dataclasses.fields(record)
+        )
+
+
+def precision(removed, positive):
+    return (removed & positive).sum() / max(removed.sum(), 1)
+
+
+def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    results, truth = run(ImprovedPitchVariationFilter(params), drive())
+    removed, positive = np.array([r.removed for r in results]), np.array(truth)
+    event_frames = np.flatnonzero(positive.any(axis=1))
+    assert event_frames.size >= 5
+    # the line is found in every frame of the event after the first, where it may still
+    # be too close to the wall it comes from to be told apart
+    for k in event_frames[1:]:
+        assert (removed[k] & positive[k]).sum() >= 0.9 * positive[k].sum(), k
+    assert precision(removed, positive) > 0.97
+    for result, on_floor in zip(results, truth, strict=True):
+        assert np.isnan(result.scan.ranges[result.removed]).all()
+        kept = ~result.removed
+        assert (result.scores[result.removed] > 0.5).all()
+        np.testing.assert_array_equal(result.scan.ranges[kept], result.scan.ranges[kept])
+        assert on_floor.shape == result.removed.shape
+
+
+def test_the_imu_option_removes_the_predicted_floor():
+    results, truth = run(ImprovedPitchVariationFilter(), drive(), imu=True)
+    removed, positive = np.array([r.removed for r in results]), np.array(truth)
+    assert (removed & positive).sum() >= 0.98 * positive.sum()  # the first frame too
+    assert precision(removed, positive) > 0.97
+
+
+def test_structure_that_was_there_is_kept_and_new_structure_across_is_removed():
+    # a door closes 3 m ahead, across the direction of travel, in space seen free: the
+    # filter cannot tell it from a floor line (a limit, shown here); once seen, it stays
+    door = np.array([[[2.0, -0.5], [2.0, 0.5]]])
+    pvf = ImprovedPitchVariationFilter()
+    for k in range(5):
+        pvf.process(room_scan(stamp=0.1 * k, seed=k)[0])
+    result = pvf.process(room_scan(stamp=0.5, extra=door, seed=9)[0])
+    ahead = np.abs(result.scan.angles()) < math.radians(10.0)
+    assert result.removed[ahead].any()  # it is in free space, and across: removed
+    pvf.reset()
+    for k in range(5):
+        pvf.process(room_scan(stamp=0.1 * k, extra=door, seed=k)[0])
+    result = pvf.process(room_scan(stamp=0.5, extra=door, seed=9)[0])
+    assert not result.removed.any()  # seen before: not new
+
+
+def test_one_pass_scores_give_every_threshold_exactly():
+    frames = list(drive(noise_m=0.02))
+    reference = run(ImprovedPitchVariationFilter(), frames)[0]
+    for p_th in (0.0, 0.3, 0.6, 0.9):
+        fresh = run(ImprovedPitchVariationFilter(ImprovedParams(p_th=p_th)), frames)[0]
+        for a, b in zip(fresh, reference, strict=True):
+            np.testing.assert_array_equal(a.removed, b.scores > p_th)
+
+
+def test_reset_and_stamps_going_back():
+    frames = list(drive(frames=3))
+    pvf = ImprovedPitchVariationFilter()
+    for (scan, _), _ in frames:
+        pvf.process(scan)
+    with pytest.warns(StampWentBackWarning):
+        result = pvf.process(frames[0][0][0])
+    assert not result.removed.any()  # a new sequence: nothing to compare with
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        pvf.reset()
+        pvf.process(frames[0][0][0])
+        pvf.process(frames[0][0][0])  # equal stamps are fine
+
+
+def test_roll_without_pitch_and_bad_attitudes_are_refused():
+    (scan, _), _ = next(drive(frames=1))
+    pvf = ImprovedPitchVariationFilter()
+    with pytest.raises(ValueError, match="roll_rad"):
+        pvf.process(scan, roll_rad=0.1)
+    with pytest.raises(ValueError, match="pitch_rad"):
+        pvf.process(scan, pitch_rad=float("nan"))

@@ -1,0 +1,86 @@
+"""Parameter files: TOML and JSON round trips, mistakes named, the pvfilter command's --params."""
+
+import numpy as np
+import pytest
+
+from pvfilter import (
+    FilterParams,
+    ImprovedParams,
+    ImprovedPitchVariationFilter,
+    load_params,
+    save_params,
+)
+from pvfilter.cli import main
+from pvfilter.io import arrays_from_scans, load_scans
+from pvfilter.params_file import filter_for, params_from_table
+from pvfilter.synthetic import room_sequence
+
+
+@pytest.mark.parametrize("suffix", [".toml", ".json"])
+@pytest.mark.parametrize(
+    "params",
+    [ImprovedParams(p_th=0.35, memory_shrink_mps=float("inf"), spread=False),
+     FilterParams(p_th=0.6, clustering="radius")],
+    ids=["improved", "paper"],
+)  # fmt: skip
+def test_saved_parameters_load_back_equal(tmp_path, suffix, params):
+    path = tmp_path / f"params{suffix}"
+    save_params(path, params, {"objective": "auc", "houses": ["random:3"], "auc": 0.9})
+    assert load_params(path) == params
+
+
+def test_a_file_may_hold_some_parameters_only(tmp_path):
+    path = tmp_path / "robot.toml"
+    path.write_text('filter = "improved"\n[improved]\nlidar_height_m = 0.3\nmin_points = 8.0\n')
+    assert load_params(path) == ImprovedParams(lidar_height_m=0.3, min_points=8)
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ({"filter": "kalman"}, "filter: must be one of paper, improved"),
+        ({"improved": {"bogus": 1}}, r"improved.bogus: unknown parameter"),
+        ({"improved": {"p_th": 2.0}}, r"improved.p_th: must be <= 1"),
+        ({"improved": 3}, "improved: must be a table"),
+    ],
+)
+def test_mistakes_name_the_file_and_the_key(table, message):
+    with pytest.raises(ValueError, match=f"robot.toml: {message}"):
+        params_from_table(table, "robot.toml")
+
+
+def test_a_broken_file_is_named(tmp_path):
+    path = tmp_path / "broken.json"
+    path.write_text("{not json")
+    with pytest.raises(ValueError, match=r"broken\.json: not a valid parameter file"):
+        load_params(path)
+
+
+def test_filter_for_builds_the_filter_the_parameters_are_for():
+    assert isinstance(filter_for(ImprovedParams()), ImprovedPitchVariationFilter)
+    assert filter_for(FilterParams()).params == FilterParams()
+
+
+@pytest.fixture
+def scan_file(tmp_path):
+    path = tmp_path / "scans.npz"
+    np.savez(path, **arrays_from_scans(room_sequence(40).scans))
+    return path
+
+
+def test_pvfilter_params_runs_the_file_s_filter(scan_file, tmp_path, capsys):
+    params = ImprovedParams(p_th=0.4)
+    save_params(tmp_path / "tuned.toml", params)
+    out = tmp_path / "out.npz"
+    assert main([str(scan_file), str(out), "--params", str(tmp_path / "tuned.toml")]) == 0
+    pvf = ImprovedPitchVariationFilter(params)
+    expected = np.array([pvf.process(s).removed for s in load_scans(scan_file)])
+    with np.load(out) as data:
+        np.testing.assert_array_equal(data["removed"], expected)
+    assert "removed" in capsys.readouterr().out
+
+
+def test_pvfilter_improved_rejects_the_paper_s_options(scan_file, tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        main([str(scan_file), str(tmp_path / "o.npz"), "--improved", "--p-th", "0.5"])
+    assert "paper's options" in capsys.readouterr().err

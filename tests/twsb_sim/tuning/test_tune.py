@@ -1,0 +1,83 @@
+"""twsb tune: the search, the objective's one pass, held-out episodes, the command end to end."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from pvfilter import ImprovedParams, ImprovedPitchVariationFilter, load_params
+from pvfilter.synthetic import room_sequence
+from twsb_sim.cli import main
+from twsb_sim.tuning.data import TuningRun
+from twsb_sim.tuning.objective import THRESHOLDS, score, sweep
+from twsb_sim.tuning.search import SPACE, params_at, search, unit_of
+
+
+def synthetic_run(count: int = 60) -> TuningRun:
+    sequence = room_sequence(count)
+    finite = np.array([np.isfinite(s.ranges) for s in sequence.scans])
+    positive = np.array(sequence.truth) & finite
+    return TuningRun(
+        name="synthetic", house="room", scans=tuple(sequence.scans), positive=positive,
+        finite=finite, static=finite & ~positive, attitude=np.zeros((count, 2)),
+        lidar_height_m=0.25, axle_height_m=0.08,
+    )  # fmt: skip
+
+
+def test_one_pass_counts_equal_fresh_filters_at_each_threshold():
+    run = synthetic_run()
+    counts, _ = sweep(ImprovedParams(), [run])
+    for i in (0, 5, 10, len(THRESHOLDS) - 1):
+        params = ImprovedParams(p_th=THRESHOLDS[i])
+        pvf = ImprovedPitchVariationFilter(params)
+        removed = np.array([pvf.process(s).removed for s in run.scans]) & run.finite
+        tp = int((removed & run.positive).sum())
+        assert counts[i].tolist() == [tp, int(removed.sum()) - tp, int(run.positive.sum()) - tp]
+
+
+def test_scores_of_a_clean_sequence_and_the_held_out_threshold():
+    run = synthetic_run()
+    chosen = score(ImprovedParams(), [run], 0.9, choose=True)
+    assert chosen.auc > 0.9 and chosen.precision >= 0.9
+    fixed = score(dataclasses.replace(ImprovedParams(), p_th=0.3), [run], 0.9)
+    assert fixed.p_th == 0.3  # not re-chosen
+
+
+def test_the_unit_box_maps_both_ways():
+    params = ImprovedParams()
+    back = params_at(params, unit_of(params))
+    for d in SPACE:
+        assert getattr(back, d.name) == pytest.approx(getattr(params, d.name), rel=5e-3)
+
+
+def test_search_climbs_to_the_best_point_of_a_toy_objective():
+    target = {"free_margin_m": 0.3, "min_points": 4}
+
+    def closeness(params: ImprovedParams) -> float:
+        return -abs(params.free_margin_m - 0.3) - abs(params.min_points - 4) / 10
+
+    log = search(closeness, ImprovedParams(), samples=8, refine_rounds=6, progress=False)
+    value, best = log.best
+    assert value > -0.05 and best.min_points == target["min_points"]
+
+
+@pytest.fixture(scope="module")
+def quick_tune(tmp_path_factory):
+    out = tmp_path_factory.mktemp("tune") / "robot.toml"
+    assert main(["tune", "--quick", "--quiet", "--out", str(out)]) == 0
+    return out
+
+
+def test_quick_tune_writes_a_file_pvfilter_loads(quick_tune):
+    params = load_params(quick_tune)
+    assert isinstance(params, ImprovedParams)
+    text = quick_tune.read_text()
+    assert "[tuning]" in text and 'objective = "auc"' in text
+    assert "held-out" in text
+
+
+def test_a_bad_output_name_is_a_usage_error(tmp_path, capsys):
+    assert main(["tune", "--quick", "--out", str(tmp_path / "robot.txt")]) == 2
+    assert ".toml or .json" in capsys.readouterr().err

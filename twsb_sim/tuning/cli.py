@@ -1,0 +1,176 @@
+"""``twsb tune``: fit the improved filter's parameters to a robot from generated episodes.
+
+Simulates training episodes and held-out episodes (another data-set seed: other houses,
+robots, motions, noise), searches the parameters on the training episodes
+(:mod:`twsb_sim.tuning.search`) for the objective (:mod:`twsb_sim.tuning.objective`),
+picks the operating point, scores defaults and tuned parameters on the held-out episodes,
+and writes a parameter file that ``pvfilter`` loads (``pvfilter.load_params``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import shlex
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from twsb_sim.config_errors import ConfigError
+
+QUICK = {"episodes": 2, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
+
+
+def add_tune_parser(commands: argparse._SubParsersAction) -> None:
+    """Register ``tune`` on the ``twsb`` command line."""
+    parser = commands.add_parser(
+        "tune",
+        help="fit the improved filter's parameters to a robot from generated episodes",
+        description="Simulate random training episodes (as twsb generate draws them), search "
+        "the improved filter's parameters for the objective on them, choose the operating "
+        "point, report defaults and tuned parameters on held-out episodes (another seed: "
+        "houses, robots, motions never seen), and write a parameter file that pvfilter "
+        "loads (pvfilter --params FILE, pvfilter.load_params).",
+    )
+    parser.add_argument("--out", type=Path, required=True, help="parameter file (.toml or .json)")
+    parser.add_argument("--episodes", type=int, default=8, help="training episodes (default 8)")
+    parser.add_argument("--heldout", type=int, default=4, help="held-out episodes (default 4)")
+    parser.add_argument("--seed", type=int, default=0, help="training data-set seed (default 0)")
+    parser.add_argument(
+        "--heldout-seed", type=int, default=1000, help="held-out data-set seed (default 1000)"
+    )
+    parser.add_argument(
+        "--ranges",
+        type=Path,
+        default=None,
+        help="TOML file of randomization ranges (twsb generate's): fix your robot here, "
+        "e.g. [robot] lidar_height_m = 0.30",
+    )
+    parser.add_argument(
+        "--objective",
+        choices=("auc", "f1"),
+        default="auc",
+        help="auc: area under the P_th sweep's PR curve (default); f1: best F1 at or above "
+        "--precision",
+    )
+    parser.add_argument(
+        "--precision",
+        type=float,
+        default=0.9,
+        help="target precision of the operating point (and of the f1 objective), default 0.9",
+    )
+    parser.add_argument("--imu", action="store_true", help="tune for use with the IMU's pitch/roll")
+    parser.add_argument(
+        "--samples", type=int, default=24, help="Latin-hypercube points (default 24)"
+    )
+    parser.add_argument("--rounds", type=int, default=4, help="pattern-search sweeps (default 4)")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="a smoke run: 2 short training episodes, 1 held-out, 3 points, 1 sweep",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    parser.set_defaults(handler=run_tune)
+
+
+def run_tune(args: argparse.Namespace) -> int:
+    """Run the tuning the arguments ask for, print the report and write the file."""
+    from pvfilter import ImprovedParams, save_params
+    from twsb_sim.dataset.randomization import load_randomization
+    from twsb_sim.tuning.data import episodes
+    from twsb_sim.tuning.objective import score
+    from twsb_sim.tuning.search import SPACE, search
+
+    settings = {k: getattr(args, k) for k in ("episodes", "heldout", "samples", "rounds")}
+    ranges = load_randomization(args.ranges)
+    if args.quick:
+        settings.update({k: v for k, v in QUICK.items() if k != "duration_s"})
+        episode = dataclasses.replace(ranges.episode, duration_s=(QUICK["duration_s"],) * 2)
+        ranges = dataclasses.replace(ranges, episode=episode)
+    for name in ("episodes", "heldout"):
+        if settings[name] < 1:
+            raise ConfigError(f"--{name}", "", f"expected an integer >= 1, got {settings[name]}")
+    if not 0.0 < args.precision <= 1.0:
+        raise ConfigError("--precision", "", f"expected a value in (0, 1], got {args.precision}")
+    if args.out.suffix.lower() not in (".toml", ".json"):
+        raise ConfigError(args.out, "", "the parameter file must end in .toml or .json")
+    progress = not args.quiet
+    started = time.perf_counter()
+    train = _simulate(episodes(args.seed, settings["episodes"], ranges), settings["episodes"],
+                      "training episodes", progress)  # fmt: skip
+    seen = frozenset(run.house for run in train)
+    heldout = _simulate(
+        episodes(args.heldout_seed, settings["heldout"], ranges, avoid_houses=seen),
+        settings["heldout"], "held-out episodes", progress,
+    )  # fmt: skip
+    heights = sorted({run.lidar_height_m for run in train})
+    base = ImprovedParams(lidar_height_m=float(np.median([r.lidar_height_m for r in train])))
+
+    def objective(params: ImprovedParams) -> float:
+        return score(params, train, args.precision, args.imu).value(args.objective)
+
+    log = search(objective, base, settings["samples"], settings["rounds"], args.seed, progress)
+    _, best = log.best
+    trained = score(best, train, args.precision, args.imu, choose=True)
+    tuned = dataclasses.replace(best, p_th=trained.p_th)
+    rows = {
+        "defaults, training": score(base, train, args.precision, args.imu),
+        "tuned, training": score(tuned, train, args.precision, args.imu),
+        "defaults, held-out": score(base, heldout, args.precision, args.imu),
+        "tuned, held-out": score(tuned, heldout, args.precision, args.imu),
+    }
+    command = "twsb " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["tune"] else "twsb tune"
+    tuning = {
+        "command": command,
+        "objective": args.objective,
+        "target_precision": args.precision,
+        "imu": args.imu,
+        "training": {
+            "seed": args.seed,
+            "episodes": [r.name for r in train],
+            "houses": sorted(seen),
+            "lidar_heights_m": heights,
+        },
+        "heldout": {
+            "seed": args.heldout_seed,
+            "episodes": [r.name for r in heldout],
+            "houses": sorted({r.house for r in heldout}),
+        },
+        "searched": [d.name for d in SPACE],
+        "points_scored": len(log.tried),
+        "results": {name: dataclasses.asdict(s) for name, s in rows.items()},
+        "wall_s": round(time.perf_counter() - started, 1),
+    }
+    save_params(args.out, tuned, tuning)
+    print(_report(rows, tuned, base, log, tuning))
+    print(f"parameters written to {args.out} (pvfilter --params {args.out})")
+    return 0
+
+
+def _simulate(runs, count: int, desc: str, progress: bool) -> list:
+    from tqdm import tqdm
+
+    return list(tqdm(runs, total=count, desc=desc, unit="episode", disable=not progress))
+
+
+def _report(rows: dict, tuned, base, log, tuning: dict) -> str:
+    lines = [
+        f"objective: {tuning['objective']} (target precision {tuning['target_precision']:g}); "
+        f"{tuning['points_scored']} parameter sets scored in {tuning['wall_s']:.0f} s",
+        "",
+        f"{'':22s} {'AUC':>6s} {'F1@P':>6s} {'p_th':>5s} {'precision':>9s} {'recall':>7s}"
+        f" {'STATIC %':>8s}",
+    ]
+    for name, s in rows.items():
+        lines.append(
+            f"{name:22s} {s.auc:6.3f} {s.f1:6.3f} {s.p_th:5.2f} {s.precision:9.3f} "
+            f"{s.recall:7.3f} {s.static_removed_pct:8.2f}"
+        )
+    changed = [
+        f"  {f.name}: {getattr(base, f.name)!r} -> {getattr(tuned, f.name)!r}"
+        for f in dataclasses.fields(tuned)
+        if getattr(base, f.name) != getattr(tuned, f.name)
+    ]
+    return "\n".join([*lines, "", "changed parameters:", *(changed or ["  (none)"])])
