@@ -14,9 +14,11 @@ episodes with the same settings extends a data set; other settings are refused.
 
 from __future__ import annotations
 
+import importlib
 import importlib.metadata
 import multiprocessing
 import os
+import sys
 import time
 from collections.abc import Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -41,9 +43,9 @@ from twsb_sim.dataset.store import (
 )
 
 FALLEN_EPISODES_RULE = "kept: cut at the fall and flagged (fell, end_reason) in the summary"
-# modules a fresh worker would import on its first task (the controller design library
-# takes about a second): the pool's server process imports them once for all workers
-_WORKER_PRELOAD = ["twsb_sim.dataset.generation", "control"]
+# the controller design library takes about a second to import: import it once, before
+# the workers are forked, rather than once per worker
+_SLOW_IMPORTS = ("control",)
 
 EpisodeOutput = tuple[int, bytes, dict[str, Any]]  # episode, shard bytes, summary
 
@@ -145,13 +147,15 @@ def generate(
         disable=not progress,
         dynamic_ncols=True,
     )
+    if not pending:
+        results: Iterator[EpisodeOutput] = iter(())
+    elif scheduler is not None:
+        results = _run_on_dask(scheduler, settings, pending)
+    elif workers == 1:
+        results = (episode_task(settings, k) for k in pending)
+    else:
+        results = _run_in_pool(workers, settings, pending)
     try:
-        if scheduler is not None:
-            results = _run_on_dask(scheduler, settings, pending)
-        elif workers == 1:
-            results = (episode_task(settings, k) for k in pending)
-        else:
-            results = _run_in_pool(workers, settings, pending)
         for episode, shard, summary in results:
             write_atomic(episode_path(root, episode), shard)
             summaries[episode] = summary
@@ -162,6 +166,8 @@ def generate(
             bar.set_postfix_str(f"{report.scans / elapsed:.0f} scans/s", refresh=False)
             bar.update()
     finally:
+        if hasattr(results, "close"):
+            results.close()  # stops the pool or cancels the cluster's tasks now, not at exit
         bar.close()
         report.wall_s = time.perf_counter() - started
         report.episodes = len(summaries)
@@ -173,8 +179,7 @@ def _run_in_pool(
     workers: int, settings: GenerationSettings, episodes: list[int]
 ) -> Iterator[EpisodeOutput]:
     """Episodes from a local process pool, as they finish (a bounded number in flight)."""
-    context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(_WORKER_PRELOAD)
+    context = _worker_context()
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         queue = iter(episodes)
         running = {pool.submit(episode_task, settings, k) for k in _take(queue, 2 * workers)}
@@ -188,6 +193,17 @@ def _run_in_pool(
             for future in running:
                 future.cancel()
             raise
+
+
+def _worker_context() -> multiprocessing.context.BaseContext:
+    """How worker processes start: forked from this one on Linux (instant: the simulator
+    is already imported), spawned elsewhere (where ``generate`` must then be called under
+    ``if __name__ == "__main__":``)."""
+    if sys.platform != "linux":
+        return multiprocessing.get_context("spawn")
+    for name in _SLOW_IMPORTS:
+        importlib.import_module(name)
+    return multiprocessing.get_context("fork")
 
 
 def _run_on_dask(
