@@ -5,7 +5,8 @@ room (four walls, 1 cm range noise, the 120 degree sector on the right blocked),
 floor line ahead or behind for three scans of every twenty (pvfilter.synthetic).
 
 Prints scans/s of ``PitchVariationFilter.process`` (Table I parameters, and the modes;
-nothing but the two-thread row starts a thread),
+nothing but the two-thread row starts a thread) and of the improved filter
+(``ImprovedPitchVariationFilter``, defaults) in the same run,
 the split of one scan's time over the stages, and the per-beam precision and recall on the
 sequence's ground truth, as a check that the measured filter does its job.
 
@@ -24,7 +25,14 @@ import time
 import numpy as np
 import scipy
 
-from pvfilter import FilterParams, PitchVariationFilter, Tracker, cluster_scan, detect_clusters
+from pvfilter import (
+    FilterParams,
+    ImprovedParams,
+    Tracker,
+    cluster_scan,
+    detect_clusters,
+)
+from pvfilter.params_file import filter_for
 from pvfilter.pipeline import remove_queued
 from pvfilter.synthetic import room_sequence
 from pvfilter.threaded import ThreadedPitchVariationFilter
@@ -47,9 +55,9 @@ def rate(run, batch: list, repeats: int) -> tuple[float, float]:
     return statistics.median(rates), max(rates)
 
 
-def sequential(params: FilterParams):
+def sequential(params: FilterParams | ImprovedParams):
     def run(batch):
-        pvf = PitchVariationFilter(params)
+        pvf = filter_for(params)
         for scan in batch:
             pvf.process(scan)
 
@@ -85,8 +93,10 @@ def stage_split(batch: list, params: FilterParams) -> dict[str, float]:
     return {key: 1e6 * seconds / len(batch) for key, seconds in totals.items()}
 
 
-def precision_recall(scans: list, truth: list, params: FilterParams) -> tuple[float, float]:
-    pvf = PitchVariationFilter(params)
+def precision_recall(
+    scans: list, truth: list, params: FilterParams | ImprovedParams
+) -> tuple[float, float]:
+    pvf = filter_for(params)
     removed = np.concatenate([pvf.process(scan).removed for scan in scans])
     positive = np.concatenate(truth)
     hits = int((removed & positive).sum())
@@ -115,6 +125,7 @@ def main() -> None:
         ("sequential, detection only", sequential(FilterParams(tracking=False))),
         ("sequential, radius clustering", sequential(FilterParams(clustering="radius"))),
         ("two threads, Table I", threaded(table_one)),
+        ("sequential, improved filter", sequential(ImprovedParams())),
     ]
     print(f"{'configuration':32s} {'scans/s':>16s} {'us/scan':>8s}")
     for name, run in rows:
@@ -125,8 +136,9 @@ def main() -> None:
     print(f"\nper-stage split, Table I, sequential (sum {total:.1f} us/scan):")
     for stage, micros in split.items():
         print(f"  {stage:20s} {micros:7.1f} us  {100.0 * micros / total:5.1f} %")
-    precision, recall = precision_recall(scans, sequence.truth, table_one)
-    print(f"\nper-beam precision {precision:.3f}, recall {recall:.3f} on the synthetic sequence")
+    for name, params in (("Table I", table_one), ("improved", ImprovedParams())):
+        precision, recall = precision_recall(scans, sequence.truth, params)
+        print(f"\n{name}: per-beam precision {precision:.3f}, recall {recall:.3f} on the sequence")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,7 @@ class BeamLayout:
     cos: np.ndarray
     sin: np.ndarray
     ring: bool
+    _tables: dict = dataclasses.field(default_factory=dict, repr=False)
 
     @classmethod
     def of(cls, scan: Scan) -> BeamLayout:
@@ -63,6 +64,26 @@ class BeamLayout:
             return beams % self.count
         beams[(beams < 0) | (beams >= self.count)] = -1
         return beams
+
+    def shift_table(self, first: int, count: int, stride: int) -> tuple[np.ndarray, np.ndarray]:
+        """Beams ``0, stride, 2 stride, ...`` and, for each of the shifts ``first`` ..
+        ``first + count - 1``, the beam each of them came from (a ring wraps around;
+        otherwise a source outside the scan is the extra index ``count``, to be NaN).
+
+        Cached: the turn search asks for the same few tables scan after scan.
+        """
+        key = (first, count, stride)
+        if key not in self._tables:
+            beams = np.arange(0, self.count, stride)
+            source = beams[None, :] - np.arange(first, first + count)[:, None]
+            if self.ring:
+                source %= self.count
+            else:
+                source[(source < 0) | (source >= self.count)] = -1  # the NaN appended
+            if len(self._tables) > 256:
+                self._tables.clear()
+            self._tables[key] = (beams, source)
+        return self._tables[key]
 
     def shifted(self, values: np.ndarray, shift: int) -> np.ndarray:
         """``values`` per beam moved by ``shift`` beams (element ``i`` to ``i + shift``).

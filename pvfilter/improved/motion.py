@@ -81,15 +81,9 @@ def _best_shift(
     ranges: np.ndarray, previous: np.ndarray, shifts: np.ndarray, layout: BeamLayout, stride: int
 ) -> int:
     """The shift with the least clipped range difference over every ``stride``-th beam."""
-    n = layout.count
-    beams = np.arange(0, n, stride)
-    source = beams[None, :] - shifts[:, None]
-    if layout.ring:
-        shifted = previous[source % n]
-    else:
-        shifted = previous[np.clip(source, 0, n - 1)]
-        shifted[(source < 0) | (source >= n)] = np.nan
-    cost = np.fmin(np.abs(shifted - ranges[beams]), CLIP_M)  # fmin: NaN gives CLIP_M
+    beams, source = layout.shift_table(int(shifts[0]), len(shifts), stride)
+    values = previous if layout.ring else np.append(previous, np.nan)  # -1: outside, NaN
+    cost = np.fmin(np.abs(values[source] - ranges[beams]), CLIP_M)  # fmin: NaN -> CLIP_M
     return int(shifts[np.argmin(np.sum(cost, axis=1))])  # ties: the lowest shift
 
 
@@ -137,14 +131,24 @@ def estimate_motion(
     solution = _solve(design, target, expected)
     # drop the worst fits (occlusion edges, moving things) once, and solve again
     residual = np.abs(design @ solution - target)
-    keep = residual <= max(3.0 * float(np.median(residual)), 0.01)
+    middle = residual.size // 2
+    keep = residual <= max(3.0 * float(np.partition(residual, middle)[middle]), 0.01)
     if np.count_nonzero(keep) >= MIN_PAIRS:
         solution = _solve(design[keep], target[keep], expected)
-    d_theta, tx, ty = (float(v) for v in solution)
+    d_theta, tx, ty = solution
     return Motion(coarse.theta_rad + d_theta, tx, ty, int(np.count_nonzero(keep)))
 
 
-def _solve(design: np.ndarray, target: np.ndarray, expected: np.ndarray) -> np.ndarray:
-    """Least squares with the prior's pseudo-observations (normal equations, 3 x 3)."""
-    matrix = design.T @ design + PRIOR_WEIGHTS
-    return np.linalg.solve(matrix, design.T @ target + PRIOR_WEIGHTS @ expected)
+def _solve(design: np.ndarray, target: np.ndarray, expected: np.ndarray) -> tuple[float, ...]:
+    """Least squares with the prior's pseudo-observations (normal equations, 3 x 3).
+
+    The prior keeps the matrix positive definite; Cramer's rule on nine floats is cheaper
+    than a LAPACK call at this size.
+    """
+    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design + PRIOR_WEIGHTS).tolist()
+    r0, r1, r2 = (design.T @ target + PRIOR_WEIGHTS @ expected).tolist()
+    det = a * (e * i - f * f) - b * (b * i - f * c) + c * (b * f - e * c)
+    x0 = r0 * (e * i - f * f) - b * (r1 * i - f * r2) + c * (r1 * f - e * r2)
+    x1 = a * (r1 * i - f * r2) - r0 * (b * i - f * c) + c * (b * r2 - r1 * c)
+    x2 = a * (e * r2 - r1 * f) - b * (b * r2 - r1 * c) + r0 * (b * f - e * c)
+    return x0 / det, x1 / det, x2 / det

@@ -48,11 +48,12 @@ def local_directions(
     if m == 0:
         return np.zeros(0)
     at = np.arange(m)
-    low, high = np.clip(at - half_width, 0, m), np.clip(at + half_width + 1, 0, m)
+    low, high = np.maximum(at - half_width, 0), np.minimum(at + half_width + 1, m)
     if runs is not None:
-        ids = np.arange(runs[-1] + 1)
-        low = np.maximum(low, np.searchsorted(runs, ids)[runs])
-        high = np.minimum(high, np.searchsorted(runs, ids, side="right")[runs])
+        ends = np.flatnonzero(np.diff(runs)) + 1  # first point of every run but the first
+        starts = np.concatenate(([0], ends))
+        low = np.maximum(low, starts[runs])
+        high = np.minimum(high, np.append(ends, m)[runs])
     x, y = points[:, 0], points[:, 1]
     # running sums of x, y, xx, yy, xy in one pass; a window's sum is a difference of two
     running = np.zeros((5, m + 1))

@@ -206,8 +206,9 @@ class ImprovedEvaluation:
         for name, (label, method) in self.improved_methods(recording).items():
             self.labels[name] = label
             op = method.filter.params.p_th
-            counts, removed, total, seconds = one_pass(recording, method, p_th, op)
-            self._tally(group, key, name, p_th, op).add(counts, removed, total)
+            values = tuple(sorted({*p_th, op}))  # a tuned operating point joins the sweep
+            counts, removed, total, seconds = one_pass(recording, method, values, op)
+            self._tally(group, key, name, values, op).add(counts, removed, total)
             if group == "sequences":
                 self.seconds[name].append(seconds)
         if group == "sequences":
@@ -216,10 +217,11 @@ class ImprovedEvaluation:
 
     def _ablation(self, recording: Recording, key: str, p_th: tuple[float, ...]) -> None:
         base = robot_params(ImprovedParams(), recording)
+        values = tuple(sorted({*p_th, base.p_th}))
         for name, (_, change) in ABLATION.items():
             method = ImprovedMethod(change(base))
-            counts, removed, total, _ = one_pass(recording, method, p_th, base.p_th)
-            self._tally("ablation", key, name, p_th, base.p_th).add(counts, removed, total)
+            counts, removed, total, _ = one_pass(recording, method, values, base.p_th)
+            self._tally("ablation", key, name, values, base.p_th).add(counts, removed, total)
 
     def _time_against_paper(self, recording: Recording) -> None:
         """Paper's filter and improved filter called in turn on each frame, timed."""

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import matplotlib
@@ -12,6 +11,8 @@ matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from twsb_sim.evaluation.report import _f, _table
+
 TARGETS = {"auc": 0.95, "precision": 0.9, "static_removed_pct": 1.0, "rate_hz": 2000.0}
 STYLES = {  # method -> (colour, line style, marker)
     "pvf": ("#2166ac", "-", "o"),
@@ -20,17 +21,6 @@ STYLES = {  # method -> (colour, line style, marker)
     "improved_imu": ("#f4a582", "-.", "^"),
     "imu_gate": ("#4d9221", ":", "d"),
 }
-
-
-def _f(value: float | None, digits: int = 3) -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "n/a"
-    return f"{value:.{digits}f}"
-
-
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return "\n".join([*lines, *("| " + " | ".join(row) + " |" for row in rows)])
 
 
 def _method_rows(per_method: dict, labels: dict, timing: dict | None = None) -> list[list[str]]:

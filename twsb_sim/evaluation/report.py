@@ -15,7 +15,6 @@ from twsb_sim.evaluation import plots
 from twsb_sim.evaluation.diagnosis import MISS_STAGES
 from twsb_sim.evaluation.experiment import LABELS, Evaluation
 from twsb_sim.evaluation.frame_pictures import render_snapshot
-from twsb_sim.evaluation.improved_report import plot_improved, render_improved_section
 from twsb_sim.evaluation.scan_matching import CONDITIONS
 
 PAPER = {  # DESIGN.md, "Reference numbers from the paper"
@@ -45,6 +44,8 @@ def write_outputs(results: dict, evaluation: Evaluation, out_dir: Path, command:
     plots.plot_chamfer(results, out_dir / "chamfer.png")
     plots.plot_pose_errors(results, out_dir / "pose_errors.png")
     if "improved" in results:
+        from twsb_sim.evaluation.improved_report import plot_improved  # it imports this module
+
         plot_improved(results, out_dir / IMPROVED_PLOT)
     results["examples"] = _write_examples(evaluation, out_dir)
     (out_dir / "results.json").write_text(json.dumps(_strict(results), indent=1) + "\n")
@@ -90,6 +91,8 @@ def _table(header: list[str], rows: list[list[str]]) -> str:
 
 def render_report(results: dict) -> str:
     """The text of ``report.md``."""
+    from twsb_sim.evaluation.improved_report import render_improved_section
+
     sections = [
         _overview(results),
         _headline(results),
