@@ -215,7 +215,10 @@ def detect_lines(
     tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
     gates = geometry_gates(segments, roll, params)
     score = np.where(gates, share_new, 0.0)
-    owner, best = best_claims(segments, score, new_valid, params)
+    if score.any():
+        owner, best = best_claims(segments, score, new_valid, params)
+    else:  # nothing new (most scans): every point stays in its segment, unclaimed
+        owner, best = labels.copy(), np.zeros(len(labels))
     # the IMU's floor points form one more cluster, certain (score 1) whatever p_th
     score, gates = np.append(score, 1.0), np.append(gates, False)
     if floor is not None:

@@ -106,7 +106,8 @@ def run_tune(args: argparse.Namespace) -> int:
         settings["heldout"], "held-out episodes", progress,
     )  # fmt: skip
     heights = sorted({run.lidar_height_m for run in train})
-    base = ImprovedParams(lidar_height_m=float(np.median([r.lidar_height_m for r in train])))
+    median_height = round(float(np.median([r.lidar_height_m for r in train])), 4)
+    base = ImprovedParams(lidar_height_m=median_height)
 
     def objective(params: ImprovedParams) -> float:
         return score(params, train, args.precision, args.imu).value(args.objective)

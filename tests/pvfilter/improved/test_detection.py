@@ -46,8 +46,8 @@ def test_a_line_nearer_than_the_largest_tilt_allows_fails():
 
 
 def test_a_line_that_needs_more_roll_than_the_robot_has_fails():
-    # 1.5 m away (tilt 9.6 deg), leaning 40 deg: a roll of about 6 deg
-    lean = math.radians(40.0)
+    # 1.5 m away (tilt 9.6 deg), leaning 25 deg: a roll of about 4 deg
+    lean = math.radians(25.0)
     points = line(0.0, -0.8, 0.0, 0.8) @ np.array(
         [[math.cos(lean), math.sin(lean)], [-math.sin(lean), math.cos(lean)]]
     ) + np.array([1.5 / math.cos(lean), 0.0])
