@@ -23,11 +23,12 @@ The state the filter carries between scans does not depend on ``p_th``, and each
 claim score (:func:`best_claims`) says at which thresholds it is removed, so one pass over
 a sequence gives the exact result of every threshold of a precision-recall sweep.
 
-The result is a :class:`pvfilter.Detection`, so the paper's removal and result types apply
-unchanged; its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the
-cluster (for information), ``p_theta`` is 1 where the segment passes the geometry gates and
-0 elsewhere, ``p_likelihood`` the share of the cluster's points the level view explains
-(1 - the share of new points), ``p_pv`` the score.
+The result is a :class:`pvfilter.Detection`, so the paper's result types apply unchanged;
+its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the cluster
+(for information), ``p_theta`` is 1 where the segment has new points and passes the
+geometry gates and 0 elsewhere (lines are fitted only when something is new),
+``p_likelihood`` the share of the cluster's points the level view explains (1 - the share
+of new points), ``p_pv`` the score.
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ class LineDetection(Detection):
         candidates: bool per beam: in a segment that passes the geometry gates with a
             score above ``CANDIDATE_SHARE``, whatever ``p_th`` (the next scan's ego-motion
             fit leaves them out).
-        line_distances: per cluster, distance of its fitted line from the sensor, m.
+        line_distances: per cluster, distance of its fitted line from the sensor, m (NaN
+            where not fitted: nothing in the scan was new).
         implied_tilt_rad: per cluster, the scan plane's tilt that puts the floor there.
         implied_roll_rad: per cluster, the roll its normal's lean needs.
         motion: the ego-motion from the previous scan.
@@ -212,8 +214,13 @@ def detect_lines(
     sizes = np.maximum(segments.sizes, 1)
     new_valid = new[segments.beams]
     share_new = np.bincount(labels, new_valid, k) / sizes
-    tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
-    gates = geometry_gates(segments, roll, params)
+    if share_new.any():  # the lines are fitted only when something is new
+        tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
+        gates = geometry_gates(segments, roll, params)
+        distances = segments.distances
+    else:  # most scans: nothing to score
+        tilt = roll = distances = np.full(k, np.nan)
+        gates = np.zeros(k, dtype=bool)
     score = np.where(gates, share_new, 0.0)
     if score.any():
         owner, best = best_claims(segments, score, new_valid, params)
@@ -249,7 +256,7 @@ def detect_lines(
         new_points=new,
         floor_points=np.zeros(n, dtype=bool) if floor is None else floor,
         candidates=candidates,
-        line_distances=np.append(segments.distances, np.nan)[kept],
+        line_distances=np.append(distances, np.nan)[kept],
         implied_tilt_rad=np.append(tilt, np.nan)[kept],
         implied_roll_rad=np.append(roll, np.nan)[kept],
         motion=motion,

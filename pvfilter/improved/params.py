@@ -33,7 +33,7 @@ class ImprovedParams:
             line's normal leans away from the sensor's x axis by the roll over the tilt, so
             lines that would need more roll are structure, not floor.
         free_margin_m: how much closer than the remembered level view a return must be to
-            count as new, m: range noise (about 5 sigma) plus the ego-motion error.
+            count as new, m: range noise (about 3 sigma) plus the ego-motion error.
         free_margin_rel: the part of that margin that grows with range, 1 (per metre of
             range): angular error and beam width.
         memory_window_beams: the level view of a beam is the nearest of this many beams

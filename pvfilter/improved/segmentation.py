@@ -19,6 +19,7 @@ the sensor, and what tilt and roll of the scan plane would put the floor there.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -67,7 +68,7 @@ def local_directions(
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Segments:
-    """A scan cut into segments, and the line of each.
+    """A scan cut into segments; each segment's line is fitted when first asked for.
 
     Attributes:
         beams: beam index of every valid point, ascending, shape ``(m,)``.
@@ -76,10 +77,6 @@ class Segments:
         directions: local line direction per valid point, rad, ``(m,)``.
         across: per segment, its points lie on a line across the direction of travel.
         sizes: points per segment, ``(k,)``.
-        centroids: mean point per segment, m, ``(k, 2)``.
-        variances: (v_x, v_y) per segment, m², ``(k, 2)``.
-        normals: unit normal of each segment's fitted line, ``(k, 2)``.
-        distances: distance of each fitted line from the sensor, m, ``(k,)``.
     """
 
     beams: np.ndarray
@@ -88,13 +85,39 @@ class Segments:
     directions: np.ndarray
     across: np.ndarray
     sizes: np.ndarray
-    centroids: np.ndarray
-    variances: np.ndarray
-    normals: np.ndarray
-    distances: np.ndarray
 
     def __len__(self) -> int:
         return int(self.sizes.size)
+
+    @functools.cached_property
+    def _fit(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Centroids, unit normals and distances from the sensor of the fitted lines."""
+        k, labels, x, y = len(self), self.labels, self.points[:, 0], self.points[:, 1]
+        mean_x = np.bincount(labels, x, k) / self.sizes
+        mean_y = np.bincount(labels, y, k) / self.sizes
+        # second moments about the mean, from raw sums (ranges are metres: no cancellation)
+        cxx = np.bincount(labels, x * x, k) / self.sizes - mean_x * mean_x
+        cyy = np.bincount(labels, y * y, k) / self.sizes - mean_y * mean_y
+        cxy = np.bincount(labels, x * y, k) / self.sizes - mean_x * mean_y
+        angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
+        normals = np.stack((-np.sin(angle), np.cos(angle)), axis=1)
+        distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
+        return np.stack((mean_x, mean_y), axis=1), normals, distances
+
+    @property
+    def centroids(self) -> np.ndarray:
+        """Mean point per segment, m, ``(k, 2)``."""
+        return self._fit[0]
+
+    @property
+    def normals(self) -> np.ndarray:
+        """Unit normal of each segment's fitted line (total least squares), ``(k, 2)``."""
+        return self._fit[1]
+
+    @property
+    def distances(self) -> np.ndarray:
+        """Distance of each segment's fitted line from the sensor, m, ``(k,)``."""
+        return self._fit[2]
 
     def implied_tilt_roll(self, lidar_height_m: float) -> tuple[np.ndarray, np.ndarray]:
         """Tilt and roll of the scan plane that would put the floor on each line, rad.
@@ -103,14 +126,14 @@ class Segments:
         at ``h / sin(tilt)`` whose normal leans from the x axis by about ``r / tilt``.
         Lines nearer than ``h`` get a tilt of pi/2.
         """
-        ratio = np.clip(lidar_height_m / np.maximum(self.distances, 1e-9), 0.0, 1.0)
+        ratio = np.minimum(lidar_height_m / np.maximum(self.distances, 1e-9), 1.0)
         tilt = np.arcsin(ratio)
-        roll = np.arcsin(np.clip(np.sin(tilt) * np.abs(self.normals[:, 1]), 0.0, 1.0))
+        roll = np.arcsin(np.minimum(np.sin(tilt) * np.abs(self.normals[:, 1]), 1.0))
         return tilt, roll
 
 
 def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) -> Segments:
-    """Cut the valid points of a scan into segments and fit a line to each.
+    """Cut the valid points of a scan into segments (their lines are fitted on demand).
 
     Args:
         points: valid points in beam order, sensor frame, m, ``(m, 2)``.
@@ -129,25 +152,12 @@ def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) 
     else:
         labels = np.concatenate(([0], np.cumsum(jumps | (across[1:] != across[:-1]))))
     k = int(labels[-1]) + 1 if len(labels) else 0
-    sizes = np.bincount(labels, minlength=k)
-    mean_x = np.bincount(labels, x, k) / sizes
-    mean_y = np.bincount(labels, y, k) / sizes
-    # second moments about the mean, from raw sums (ranges are metres: no cancellation)
-    cxx = np.bincount(labels, x * x, k) / sizes - mean_x * mean_x
-    cyy = np.bincount(labels, y * y, k) / sizes - mean_y * mean_y
-    cxy = np.bincount(labels, x * y, k) / sizes - mean_x * mean_y
-    angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
-    normals = np.column_stack((-np.sin(angle), np.cos(angle)))
-    centroids = np.column_stack((mean_x, mean_y))
+    firsts = np.flatnonzero(np.diff(labels)) + 1
     return Segments(
         beams=beams,
         points=points,
         labels=labels,
         directions=directions,
-        across=across[np.searchsorted(labels, np.arange(k))],  # a segment is all or none
-        sizes=sizes,
-        centroids=centroids,
-        variances=np.column_stack((np.maximum(cxx, 0.0), np.maximum(cyy, 0.0))),
-        normals=normals,
-        distances=np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1]),
+        across=across[np.concatenate(([0], firsts))] if k else np.zeros(0, bool),
+        sizes=np.diff(np.concatenate(([0], firsts, [len(labels)]))) if k else np.zeros(0, int),
     )

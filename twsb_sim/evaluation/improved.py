@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections import defaultdict
+from collections import Counter, defaultdict
 from collections.abc import Callable
 
 import numpy as np
@@ -28,6 +28,7 @@ import numpy as np
 from pvfilter import FilterParams, ImprovedParams, load_params
 from scaneval.metrics import pr_curve
 from twsb_sim.evaluation.config import DEFAULT_IMU_BAND_M, EvalConfig
+from twsb_sim.evaluation.diagnosis import describe_false_alarms
 from twsb_sim.evaluation.methods import ImprovedMethod, ImuGateMethod, PvfMethod
 from twsb_sim.evaluation.passes import beam_truth, sweep_counts
 from twsb_sim.evaluation.recording import Recording
@@ -58,6 +59,15 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "settling the view after max_event_s",
         lambda p: _set(p, max_event_s=float("inf")),
     ),
+}
+
+
+# why the improved filter misses a pitch-variation beam, first that holds
+IMPROVED_MISSES: dict[str, str] = {
+    "not_new": "not in front of the level view by the margin (not new)",
+    "small": "new, but in a segment smaller than min_points",
+    "gates": "new, but its segment fails the tilted-plane gates",
+    "share": "new, but its segment's share of new points is at most p_th",
 }
 
 
@@ -139,6 +149,35 @@ def static_at(recording: Recording, method) -> tuple[int, int]:
     return removed, total
 
 
+def diagnose(recording: Recording, params: ImprovedParams) -> tuple[Counter, Counter, int]:
+    """Why the improved filter misses beams, and what its false alarms hit, over a run.
+
+    Returns:
+        Missed beams per :data:`IMPROVED_MISSES` key, false-alarm beams per (surface kind,
+        first seen or seen before, detected), and the run's pitch-variation beams.
+    """
+    method = ImprovedMethod(params)
+    misses, false_alarms, positives, previous = Counter(), Counter(), 0, None
+    for frame in recording.frames:
+        method.process(frame)
+        result = method.last_result
+        positive, finite = beam_truth(frame)
+        positive &= finite
+        positives += int(np.count_nonzero(positive))
+        missed = np.flatnonzero(positive & ~result.removed)
+        detection = result.detection
+        cluster = detection.clusters.labels[missed]
+        new = detection.new_points[missed]
+        gated = np.append(detection.p_theta, 0.0)[cluster] > 0.0
+        misses["not_new"] += int(np.count_nonzero(~new))
+        misses["small"] += int(np.count_nonzero(new & (cluster < 0)))
+        misses["gates"] += int(np.count_nonzero(new & (cluster >= 0) & ~gated))
+        misses["share"] += int(np.count_nonzero(new & (cluster >= 0) & gated))
+        false_alarms.update(describe_false_alarms(frame, previous, result, recording.geom_names))
+        previous = frame
+    return misses, false_alarms, positives
+
+
 @dataclasses.dataclass
 class ImprovedEvaluation:
     """The improved filter's results so far: (group, key) -> method -> :class:`Tally`.
@@ -152,6 +191,9 @@ class ImprovedEvaluation:
     tallies: dict = dataclasses.field(default_factory=lambda: defaultdict(dict))
     seconds: dict = dataclasses.field(default_factory=lambda: defaultdict(list))
     labels: dict = dataclasses.field(default_factory=dict)
+    misses: dict = dataclasses.field(default_factory=lambda: defaultdict(Counter))
+    false_alarms: dict = dataclasses.field(default_factory=lambda: defaultdict(Counter))
+    positives: dict = dataclasses.field(default_factory=lambda: defaultdict(int))
 
     def __post_init__(self) -> None:
         if self.config.improved_params and self.tuned is None:
@@ -214,6 +256,12 @@ class ImprovedEvaluation:
         if group == "sequences":
             self._ablation(recording, key, p_th)
             self._time_against_paper(recording)
+            misses, false_alarms, positives = diagnose(
+                recording, robot_params(ImprovedParams(), recording)
+            )
+            self.misses[key].update(misses)
+            self.false_alarms[key].update(false_alarms)
+            self.positives[key] += positives
 
     def _ablation(self, recording: Recording, key: str, p_th: tuple[float, ...]) -> None:
         base = robot_params(ImprovedParams(), recording)
@@ -253,5 +301,16 @@ class ImprovedEvaluation:
                 "rate_hz": float(1.0 / seconds.mean()),
             }
         out["timing"] = timing
+        out["diagnosis"] = {
+            key: {
+                "positives": self.positives[key],
+                "misses": {IMPROVED_MISSES[k]: n for k, n in self.misses[key].items()},
+                "false_alarms": [
+                    {"hit": kind, "seen": seen, "beams": beams}
+                    for (kind, seen, _), beams in self.false_alarms[key].most_common()
+                ],
+            }
+            for key in self.misses
+        }
         out["tuned_params"] = dataclasses.asdict(self.tuned) if self.tuned is not None else None
         return out

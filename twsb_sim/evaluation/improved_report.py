@@ -100,6 +100,19 @@ def render_improved_section(results: dict) -> str:
                     rows,
                 )
             )
+    for seq, d in improved.get("diagnosis", {}).items():
+        missed = sum(d["misses"].values())
+        rows = [[why, str(n), f"{100 * n / max(d['positives'], 1):.1f} %"]
+                for why, n in sorted(d["misses"].items(), key=lambda kv: -kv[1])]  # fmt: skip
+        alarms = sum(r["beams"] for r in d["false_alarms"])
+        fa_rows = [[r["hit"], r["seen"], str(r["beams"])] for r in d["false_alarms"][:8]]
+        parts.append(
+            f"### Where the improved filter (defaults) still fails, {seq}\n\n"
+            f"Missed {missed} of {d['positives']} pitch-variation beams:\n\n"
+            + _table(["why", "beams", "of all pitch-variation beams"], rows)
+            + f"\n\nFalse alarms ({alarms} beams), by what they hit:\n\n"
+            + _table(["what it hit", "surface", "beams"], fa_rows)
+        )
     for group, title in (("heldout", "Held-out random houses"), ("variations", "Robot variations")):
         for key, per_method in improved.get(group, {}).items():
             table = _table(HEADER, _method_rows(per_method, labels))

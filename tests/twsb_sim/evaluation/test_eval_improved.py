@@ -70,9 +70,11 @@ def test_quick_eval_compares_the_improved_filter(quick_report):
     assert "full" in improved["ablation"]["normal_sequence"]
     assert improved["tuned_params"]["p_th"] == 0.4
     assert improved["timing"]["same_loop_improved"]["rate_hz"] > 0
+    diagnosis = improved["diagnosis"]["normal_sequence"]
+    assert sum(diagnosis["misses"].values()) <= diagnosis["positives"]
     report = (quick_report / "report.md").read_text()
     for heading in ("The improved filter beside the paper's", "Ablation", "Held-out random houses",
-                    "Robot variations: LiDAR at 0.15 m"):  # fmt: skip
+                    "Robot variations: LiDAR at 0.15 m", "still fails"):  # fmt: skip
         assert heading in report
     assert (quick_report / "improved_pr_curves.png").stat().st_size > 0
 
