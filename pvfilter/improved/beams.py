@@ -10,6 +10,11 @@ import numpy as np
 from pvfilter.scan import Scan
 
 
+def indices(mask: np.ndarray) -> np.ndarray:
+    """Indices where a 1-D mask is true (``np.flatnonzero`` without its Python layers)."""
+    return mask.nonzero()[0]
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class BeamLayout:
     """Angles of a scan's beams and what every stage needs from them.

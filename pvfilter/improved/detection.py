@@ -40,6 +40,7 @@ import numpy as np
 
 from pvfilter.clustering import ClusterSet
 from pvfilter.detection import Detection, perpendicular_variance_ratio
+from pvfilter.improved.beams import indices
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
@@ -148,7 +149,7 @@ def spread_claims(
         new: bool per valid point: new evidence.
         params: ``extend_tolerance_m``.
     """
-    candidates = np.flatnonzero(new)
+    candidates = indices(new)
     if lines.size == 0 or candidates.size == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     points = segments.points[candidates]
@@ -175,7 +176,7 @@ def best_claims(
         The owning segment per point, and its score.
     """
     owner = segments.labels.copy()
-    lines = np.flatnonzero(score > 0.0)
+    lines = indices(score > 0.0)
     pairs = [extension_claims(segments, lines, params)]
     if params.spread:
         pairs.append(spread_claims(segments, lines, new, params))
@@ -214,11 +215,13 @@ def detect_lines(
     sizes = np.maximum(segments.sizes, 1)
     new_valid = new[segments.beams]
     share_new = np.bincount(labels, new_valid, k) / sizes
-    if share_new.any():  # the lines are fitted only when something is new
+    # lines are fitted only when a big enough segment across the direction of travel has
+    # new points (half the scans have none)
+    if (segments.across & (segments.sizes >= params.min_points) & (share_new > 0.0)).any():
         tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
         gates = geometry_gates(segments, roll, params)
         distances = segments.distances
-    else:  # most scans: nothing to score
+    else:  # nothing to score
         tilt = roll = distances = np.full(k, np.nan)
         gates = np.zeros(k, dtype=bool)
     score = np.where(gates, share_new, 0.0)
@@ -227,7 +230,7 @@ def detect_lines(
     else:  # nothing new (most scans): every point stays in its segment, unclaimed
         owner, best = labels.copy(), np.zeros(len(labels))
     # the IMU's floor points form one more cluster, certain (score 1) whatever p_th
-    score, gates = np.append(score, 1.0), np.append(gates, False)
+    score, gates = np.concatenate((score, [1.0])), np.concatenate((gates, [False]))
     if floor is not None:
         on_floor = floor[segments.beams]
         owner[on_floor], best[on_floor] = k, 1.0
@@ -256,9 +259,9 @@ def detect_lines(
         new_points=new,
         floor_points=np.zeros(n, dtype=bool) if floor is None else floor,
         candidates=candidates,
-        line_distances=np.append(distances, np.nan)[kept],
-        implied_tilt_rad=np.append(tilt, np.nan)[kept],
-        implied_roll_rad=np.append(roll, np.nan)[kept],
+        line_distances=np.concatenate((distances, [np.nan]))[kept],
+        implied_tilt_rad=np.concatenate((tilt, [np.nan]))[kept],
+        implied_roll_rad=np.concatenate((roll, [np.nan]))[kept],
         motion=motion,
         claim_scores=claim_scores,
     )
@@ -280,7 +283,7 @@ def _cluster_set(
         points,
         beam_labels,
         sizes,
-        np.column_stack((mean_x, mean_y)),
-        np.column_stack((np.maximum(var_x, 0.0), np.maximum(var_y, 0.0))),
+        np.stack((mean_x, mean_y), axis=1),
+        np.stack((np.maximum(var_x, 0.0), np.maximum(var_y, 0.0)), axis=1),
         None,
     )

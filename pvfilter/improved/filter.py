@@ -18,7 +18,7 @@ import warnings
 
 import numpy as np
 
-from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.imu import check_attitude, floor_points
 from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
@@ -36,7 +36,7 @@ def removal(detection: LineDetection) -> FilterResult:
     score exceeds ``p_th`` exactly when it is removed, whatever ``p_th``.
     """
     labels = detection.clusters.labels
-    removed = np.append(detection.detected, False)[labels]  # label -1: the appended False
+    removed = np.concatenate((detection.detected, [False]))[labels]  # label -1: the appended False
     scan = detection.clusters.scan
     filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges))
     tracked = np.zeros(len(detection.clusters), dtype=bool)  # no tracking module
@@ -84,7 +84,7 @@ class ImprovedPitchVariationFilter:
         valid = scan.valid_mask()
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
-        beams = np.flatnonzero(valid)
+        beams = indices(valid)
         # segment: split lines across the direction of travel from what they touch
         segments = segment_scan(points[beams], beams, params)
         # ego-motion, then the level view moved into this scan's frame

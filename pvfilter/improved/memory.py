@@ -31,7 +31,7 @@ import dataclasses
 import numpy as np
 from scipy.ndimage import minimum_filter1d
 
-from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 
@@ -70,7 +70,7 @@ class LevelMemory:
         """
         state = self.state
         remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
-        known = np.flatnonzero(~np.isnan(remembered))
+        known = indices(~np.isnan(remembered))
         moved = motion.apply(layout.points(remembered)[known])
         ranges = np.hypot(moved[:, 0], moved[:, 1])
         beams = layout.beam_of(moved)
@@ -165,7 +165,7 @@ def new_points(
 
 def _fill_single_holes(level: np.ndarray, ages: np.ndarray, ahead: np.ndarray) -> None:
     """Give beams that no remembered point landed on their nearer neighbour's values."""
-    hole = np.flatnonzero(np.isnan(level))
+    hole = indices(np.isnan(level))
     if hole.size == 0 or hole.size == len(level):
         return
     n = len(level)

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.beams import BeamLayout, indices
 
 MIN_PAIRS = 20  # fewer usable beam pairs: keep the coarse turn, no translation
 CLIP_M = 0.5  # m: range differences are clipped here in the coarse search
@@ -82,7 +82,7 @@ def _best_shift(
 ) -> int:
     """The shift with the least clipped range difference over every ``stride``-th beam."""
     beams, source = layout.shift_table(int(shifts[0]), len(shifts), stride)
-    values = previous if layout.ring else np.append(previous, np.nan)  # -1: outside, NaN
+    values = previous if layout.ring else np.concatenate((previous, [np.nan]))  # -1: outside, NaN
     cost = np.fmin(np.abs(values[source] - ranges[beams]), CLIP_M)  # fmin: NaN -> CLIP_M
     return int(shifts[np.argmin(np.sum(cost, axis=1))])  # ties: the lowest shift
 
@@ -118,7 +118,7 @@ def estimate_motion(
     step = points - q
     gap = np.hypot(step[:, 0], step[:, 1])
     usable = ~np.isnan(gap) & ~np.isnan(directions)
-    rows = np.flatnonzero(np.less(gap, association_m, where=usable, out=np.zeros(len(gap), bool)))
+    rows = indices(np.less(gap, association_m, where=usable, out=np.zeros(len(gap), bool)))
     if rows.size < MIN_PAIRS:
         return coarse
     normal_x, normal_y = -np.sin(directions[rows]), np.cos(directions[rows])
