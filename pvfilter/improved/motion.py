@@ -6,7 +6,7 @@ motion comes from the two scans in two steps, both cheap on 720 beams:
 
 1. **Turn, to the nearest beam**: the previous ranges shifted by ``s`` beams are compared
    with the current ones (sum of the clipped absolute differences), first for every shift
-   near the previous turn on all beams (the turn rate changes little between scans), and
+   near the previous turn on every other beam (the turn rate changes little between scans), and
    only if that fails for every shift the fastest turn allows on every fourth beam; the
    best ``s`` gives ``theta_0 = s * angle_increment``.
 2. **Fine turn and translation**: a point-to-line least-squares step, solved twice with the
@@ -66,11 +66,11 @@ def coarse_turn(
     """The beam shift of ``previous`` that best matches ``ranges`` (NaN: not compared).
 
     The turn rate changes little between scans, so the shifts next to the ``expected``
-    one are tried first on all beams; only when the best of them is at the edge of that
-    window are all shifts up to ``max_shift`` tried, on every fourth beam.
+    one are tried first on every other beam; only when the best of them is at the edge of
+    that window are all shifts up to ``max_shift`` tried, on every fourth beam.
     """
     near = np.arange(expected - NEAR_SHIFTS, expected + NEAR_SHIFTS + 1)
-    best = _best_shift(ranges, previous, near, layout, 1)
+    best = _best_shift(ranges, previous, near, layout, 2)
     if abs(best - expected) < NEAR_SHIFTS:
         return best
     best = _best_shift(ranges, previous, np.arange(-max_shift, max_shift + 1), layout, 4)
@@ -116,9 +116,8 @@ def estimate_motion(
     coarse = Motion(theta_rad=shift * layout.increment)
     q = coarse.apply(layout.shifted(previous_points, shift))
     step = points - q
-    gap = np.hypot(step[:, 0], step[:, 1])
-    usable = ~np.isnan(gap) & ~np.isnan(directions)
-    rows = indices(np.less(gap, association_m, where=usable, out=np.zeros(len(gap), bool)))
+    # NaN (no return, or a direction-less point) compares False: those beams sit out
+    rows = indices((np.hypot(step[:, 0], step[:, 1]) < association_m) & (directions == directions))
     if rows.size < MIN_PAIRS:
         return coarse
     normal_x, normal_y = -np.sin(directions[rows]), np.cos(directions[rows])
@@ -132,11 +131,11 @@ def estimate_motion(
     # drop the worst fits (occlusion edges, moving things) once, and solve again
     residual = np.abs(design @ solution - target)
     middle = residual.size // 2
-    keep = residual <= max(3.0 * float(np.partition(residual, middle)[middle]), 0.01)
-    if np.count_nonzero(keep) >= MIN_PAIRS:
+    keep = indices(residual <= max(3.0 * float(np.partition(residual, middle)[middle]), 0.01))
+    if keep.size >= MIN_PAIRS:
         solution = _solve(design[keep], target[keep], expected)
     d_theta, tx, ty = solution
-    return Motion(coarse.theta_rad + d_theta, tx, ty, int(np.count_nonzero(keep)))
+    return Motion(coarse.theta_rad + d_theta, tx, ty, int(keep.size))
 
 
 def _solve(design: np.ndarray, target: np.ndarray, expected: np.ndarray) -> tuple[float, ...]:
