@@ -1,10 +1,13 @@
 """``twsb tune``: fit the improved filter's parameters to a robot from generated episodes.
 
 Simulates training episodes and held-out episodes (another data-set seed: other houses,
-robots, motions, noise), searches the parameters on the training episodes
-(:mod:`twsb_sim.tuning.search`) for the objective (:mod:`twsb_sim.tuning.objective`),
-picks the operating point, scores defaults and tuned parameters on the held-out episodes,
-and writes a parameter file that ``pvfilter`` loads (``pvfilter.load_params``).
+robots, motions, noise). The search (:mod:`twsb_sim.tuning.search`) fits the objective
+(:mod:`twsb_sim.tuning.objective`) on two thirds of the training episodes; the defaults
+and the search's best sets are scored on the other third, and the best of them is kept
+(so a set that only fits the search's episodes is not). The operating point is chosen on
+all training episodes; defaults and tuned parameters are then scored on the held-out
+episodes, and the parameter file that ``pvfilter`` loads (``pvfilter.load_params``) is
+written.
 """
 
 from __future__ import annotations
@@ -20,7 +23,8 @@ import numpy as np
 
 from twsb_sim.config_errors import ConfigError
 
-QUICK = {"episodes": 2, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
+QUICK = {"episodes": 3, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
+VALIDATED = 5  # best sets of the search that are scored on the validation episodes
 
 
 def add_tune_parser(commands: argparse._SubParsersAction) -> None:
@@ -35,7 +39,12 @@ def add_tune_parser(commands: argparse._SubParsersAction) -> None:
         "loads (pvfilter --params FILE, pvfilter.load_params).",
     )
     parser.add_argument("--out", type=Path, required=True, help="parameter file (.toml or .json)")
-    parser.add_argument("--episodes", type=int, default=8, help="training episodes (default 8)")
+    parser.add_argument(
+        "--episodes",
+        type=int,
+        default=12,
+        help="training episodes (default 12: two thirds fit the search, one third validates)",
+    )
     parser.add_argument("--heldout", type=int, default=4, help="held-out episodes (default 4)")
     parser.add_argument("--seed", type=int, default=0, help="training data-set seed (default 0)")
     parser.add_argument(
@@ -69,7 +78,7 @@ def add_tune_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--quick",
         action="store_true",
-        help="a smoke run: 2 short training episodes, 1 held-out, 3 points, 1 sweep",
+        help="a smoke run: 3 short training episodes, 1 held-out, 3 points, 1 sweep",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     parser.set_defaults(handler=run_tune)
@@ -109,11 +118,20 @@ def run_tune(args: argparse.Namespace) -> int:
     median_height = round(float(np.median([r.lidar_height_m for r in train])), 4)
     base = ImprovedParams(lidar_height_m=median_height)
 
+    # the search fits on every third training episode left out; those validate: the best
+    # few sets of the search and the defaults are scored on them, and the best one wins
+    # (a set that only fits the search's episodes does not)
+    fit = [run for i, run in enumerate(train) if i % 3 != 2 or len(train) < 3]
+    validation = [run for i, run in enumerate(train) if i % 3 == 2] or train
+
     def objective(params: ImprovedParams) -> float:
-        return score(params, train, args.precision, args.imu).value(args.objective)
+        return score(params, fit, args.precision, args.imu).value(args.objective)
 
     log = search(objective, base, settings["samples"], settings["rounds"], args.seed, progress)
-    _, best = log.best
+    finalists = [base, *(p for _, p in sorted(log.tried, key=lambda t: -t[0])[:VALIDATED])]
+    validated = [score(p, validation, args.precision, args.imu).value(args.objective)
+                 for p in finalists]  # fmt: skip
+    best = finalists[int(np.argmax(validated))]
     trained = score(best, train, args.precision, args.imu, choose=True)
     tuned = dataclasses.replace(best, p_th=trained.p_th)
     rows = {
@@ -140,6 +158,10 @@ def run_tune(args: argparse.Namespace) -> int:
             "houses": sorted({r.house for r in heldout}),
         },
         "searched": [d.name for d in SPACE],
+        "fit_episodes": [r.name for r in fit],
+        "validation_episodes": [r.name for r in validation],
+        "validation_scores": {"defaults": validated[0], "best of the search": max(validated[1:])},
+        "defaults_kept": best is base,
         "points_scored": len(log.tried),
         "results": {name: dataclasses.asdict(s) for name, s in rows.items()},
         "wall_s": round(time.perf_counter() - started, 1),
@@ -157,9 +179,13 @@ def _simulate(runs, count: int, desc: str, progress: bool) -> list:
 
 
 def _report(rows: dict, tuned, base, log, tuning: dict) -> str:
+    checked = tuning["validation_scores"]
+    kept = "the defaults" if tuning["defaults_kept"] else "the search's best"
     lines = [
         f"objective: {tuning['objective']} (target precision {tuning['target_precision']:g}); "
         f"{tuning['points_scored']} parameter sets scored in {tuning['wall_s']:.0f} s",
+        f"validation episodes: defaults {checked['defaults']:.3f}, best of the search "
+        f"{checked['best of the search']:.3f}: {kept} kept",
         "",
         f"{'':22s} {'AUC':>6s} {'F1@P':>6s} {'p_th':>5s} {'precision':>9s} {'recall':>7s}"
         f" {'STATIC %':>8s}",
