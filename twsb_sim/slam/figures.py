@@ -26,6 +26,7 @@ METHOD_COLORS = {
     "none": "tab:red",
     "pvf": "tab:blue",
     "pvf_p04": "tab:purple",
+    "improved": "tab:cyan",
     "imu_gate": "tab:orange",
     "truth_labels": "tab:green",
 }

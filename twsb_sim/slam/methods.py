@@ -4,6 +4,8 @@
 - ``pvf``: the Pitch Variation Filter with Table I's parameters (the paper's "w/");
 - ``pvf_p04``: the same filter at P_th = 0.4, the best-F1 point of ``twsb eval``'s P_th
   sweep on the simulator's sequences (Table I's 0.8 keeps recall near 2 % there);
+- ``improved``: the improved filter (``pvfilter.ImprovedPitchVariationFilter``, defaults,
+  told the robot's LiDAR height; scans only, no IMU);
 - ``imu_gate``: the IMU height gate, what Hector-SLAM and Cartographer users do when an
   IMU is present: beams ending outside 0.05-2.0 m above the floor, by the IMU's pitch and
   roll, are removed (floor and ceiling hits);
@@ -21,11 +23,12 @@ from twsb_sim.frame import Frame
 from twsb_sim.labels import is_pitch_variation
 from twsb_sim.scenario import Scenario
 
-METHODS: tuple[str, ...] = ("none", "pvf", "pvf_p04", "imu_gate", "truth_labels")
+METHODS: tuple[str, ...] = ("none", "pvf", "pvf_p04", "improved", "imu_gate", "truth_labels")
 METHOD_TITLES = {
     "none": "no filter",
     "pvf": "PVF",
     "pvf_p04": "PVF, P_th 0.4",
+    "improved": "improved filter",
     "imu_gate": "IMU height gate",
     "truth_labels": "truth labels",
 }
@@ -53,6 +56,13 @@ def removed_masks(method: str, frames: Sequence[Frame], scenario: Scenario) -> l
 
         pvf = PitchVariationFilter(FilterParams(p_th=LOW_P_TH) if method == "pvf_p04" else None)
         return [pvf.process(f.scan).removed for f in frames]
+    if method == "improved":
+        from pvfilter import ImprovedParams, ImprovedPitchVariationFilter
+
+        improved = ImprovedPitchVariationFilter(
+            ImprovedParams(lidar_height_m=scenario.robot.lidar_height_m)
+        )
+        return [improved.process(f.scan).removed for f in frames]
     if method == "imu_gate":
         from scaneval.baselines import ImuHeightGate
         from twsb_sim.evaluation.methods import imu_pitch_roll
