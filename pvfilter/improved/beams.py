@@ -85,18 +85,25 @@ class BeamLayout:
                 source %= self.count
             else:
                 source[(source < 0) | (source >= self.count)] = -1  # the NaN appended
-            if len(self._tables) > 256:
-                self._tables.clear()
-            self._tables[key] = (beams, source)
+            self._remember(key, (beams, source))
         return self._tables[key]
+
+    def _remember(self, key: tuple, value: object) -> None:
+        """Cache ``value`` for this layout (bounded: cleared when it grows past 256)."""
+        if len(self._tables) > 256:
+            self._tables.clear()
+        self._tables[key] = value
 
     def shifted(self, values: np.ndarray, shift: int) -> np.ndarray:
         """``values`` per beam moved by ``shift`` beams (element ``i`` to ``i + shift``).
 
         On a ring the beams wrap around; otherwise vacated beams are NaN.
         """
-        if self.ring:
-            return np.roll(values, shift, axis=0)
+        if self.ring:  # np.roll, as a cached gather (take() is cheaper than roll's copies)
+            key = ("roll", shift)
+            if key not in self._tables:
+                self._remember(key, (np.arange(self.count) - shift) % self.count)
+            return values.take(self._tables[key], axis=0)
         moved = np.full(values.shape, np.nan)
         if shift >= 0:
             moved[shift:] = values[: len(values) - shift]

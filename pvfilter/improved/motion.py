@@ -57,7 +57,11 @@ class Motion:
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the previous sensor frame in the current one, m, ``(k, 2)``."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        return points @ np.array([[c, s], [-s, c]]) + (self.tx_m, self.ty_m)
+        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add, and the
+        # filter's results are kept bit for bit
+        moved = points @ np.array([[c, s], [-s, c]])
+        moved += (self.tx_m, self.ty_m)
+        return moved
 
 
 def coarse_turn(
@@ -83,8 +87,11 @@ def _best_shift(
     """The shift with the least clipped range difference over every ``stride``-th beam."""
     beams, source = layout.shift_table(int(shifts[0]), len(shifts), stride)
     values = previous if layout.ring else np.concatenate((previous, [np.nan]))  # -1: outside, NaN
-    cost = np.fmin(np.abs(values[source] - ranges[beams]), CLIP_M)  # fmin: NaN -> CLIP_M
-    return int(shifts[np.argmin(np.sum(cost, axis=1))])  # ties: the lowest shift
+    # |previous - ranges| clipped at CLIP_M, in one buffer (fmin: NaN -> CLIP_M)
+    cost = values.take(source)
+    cost -= ranges.take(beams)
+    np.fmin(np.abs(cost, out=cost), CLIP_M, out=cost)
+    return int(shifts[np.add.reduce(cost, axis=1).argmin()])  # ties: the lowest shift
 
 
 def estimate_motion(
@@ -117,12 +124,18 @@ def estimate_motion(
     q = coarse.apply(layout.shifted(previous_points, shift))
     step = points - q
     # NaN (no return, or a direction-less point) compares False: those beams sit out
-    rows = indices((np.hypot(step[:, 0], step[:, 1]) < association_m) & (directions == directions))
+    usable = np.hypot(step[:, 0], step[:, 1]) < association_m
+    usable &= directions == directions
+    rows = indices(usable)
     if rows.size < MIN_PAIRS:
         return coarse
-    normal_x, normal_y = -np.sin(directions[rows]), np.cos(directions[rows])
-    a, d = q[rows], step[rows]
-    design = np.stack((normal_y * a[:, 0] - normal_x * a[:, 1], normal_x, normal_y), axis=1)
+    angle = directions.take(rows)
+    normal_x, normal_y = -np.sin(angle), np.cos(angle)
+    # rows by take(): fancy indexing of 2-D rows costs several times more
+    a, d = q.take(rows, axis=0), step.take(rows, axis=0)
+    design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
+    np.subtract(normal_y * a[:, 0], normal_x * a[:, 1], out=design[:, 0])
+    design[:, 1], design[:, 2] = normal_x, normal_y
     target = normal_x * d[:, 0] + normal_y * d[:, 1]
     expected = np.zeros(3)
     if prior is not None:
@@ -133,7 +146,7 @@ def estimate_motion(
     middle = residual.size // 2
     keep = indices(residual <= max(3.0 * float(np.partition(residual, middle)[middle]), 0.01))
     if keep.size >= MIN_PAIRS:
-        solution = _solve(design[keep], target[keep], expected)
+        solution = _solve(design.take(keep, axis=0), target.take(keep), expected)
     d_theta, tx, ty = solution
     return Motion(coarse.theta_rad + d_theta, tx, ty, int(keep.size))
 
