@@ -153,11 +153,9 @@ def _simulate(
                 f"shove: {np.linalg.norm(force):.0f} N for {shove.duration_s:g} s"
                 + (f" ({shove.label})" if shove.label else "")
             )
-        if k in timeline_steps and sim.has_fallen():
-            pitch_deg = abs(math.degrees(sim.pitch_rad()))
-            limit_deg = scenario.simulation.fall_pitch_deg
-            reason = f"fell: |pitch| {pitch_deg:.0f} deg > {limit_deg:g} deg"
-            reason += f" at t={sim.time_s:.2f} s"
+        fall = sim.fall_reason() if k in timeline_steps else None
+        if fall is not None:
+            reason = f"fell: {fall} at t={sim.time_s:.2f} s"
             summary.fell, summary.end_reason = True, reason
             events(reason)
             return

@@ -47,7 +47,7 @@ MAX_DURATION_S = 3600.0  # s
 class SimulationConfig:
     """How the run itself behaves."""
 
-    fall_pitch_deg: float = 45.0  # deg, |pitch| beyond which the robot has fallen and the run ends
+    fall_pitch_deg: float = 45.0  # deg, |pitch| or |roll| beyond which the robot has fallen
 
     def __post_init__(self) -> None:
         if not 5.0 <= self.fall_pitch_deg <= 90.0:

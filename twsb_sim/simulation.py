@@ -111,8 +111,21 @@ class Simulation:
             if stat.number > 0
         }
 
+    def fall_reason(self) -> str | None:
+        """Why the robot counts as fallen now (None while it is up).
+
+        Tipping over forward or back (|pitch|) and onto its side (|roll|, after a push from
+        the side) both count, against the same limit.
+        """
+        state = self.handles.read_balance_state(self.data)
+        limit_deg = math.degrees(self.fall_pitch_rad)
+        for name, angle in (("pitch", state.pitch_rad), ("roll", state.roll_rad)):
+            if abs(angle) > self.fall_pitch_rad:
+                return f"|{name}| {abs(math.degrees(angle)):.0f} deg > {limit_deg:g} deg"
+        return None
+
     def has_fallen(self) -> bool:
-        return abs(self.pitch_rad()) > self.fall_pitch_rad
+        return self.fall_reason() is not None
 
     # -- stepping ------------------------------------------------------------------------
 

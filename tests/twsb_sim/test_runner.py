@@ -168,3 +168,22 @@ def test_raw_torques_track_the_peak_pitch_too():
     sim = simulation_for(short(load_scenario("scenarios/hard_stop.toml"), 1.0), seed=0)
     sim.step_torques(np.array([1.0, 1.0]), n_steps=100)  # open loop: the body tips back
     assert sim.max_abs_pitch_rad >= abs(sim.pitch_rad()) > 0.01
+
+
+def test_tipping_over_sideways_is_a_fall_too():
+    scenario = scenario_from_table(
+        {
+            "duration_s": 4.0,
+            "shoves": [
+                {
+                    "t_s": 1.0,
+                    "force_n": [0.0, 80.0, 0.0],
+                    "duration_s": 0.3,
+                    "point_m": [0, 0, 0.45],
+                }
+            ],
+        }
+    )
+    summary = run_scenario(scenario, seed=0)
+    assert summary.fell
+    assert summary.end_reason.startswith("fell: |roll|")
