@@ -40,11 +40,20 @@ import numpy as np
 
 from pvfilter.clustering import ClusterSet
 from pvfilter.detection import Detection, perpendicular_variance_ratio
-from pvfilter.improved.beams import indices
+from pvfilter.improved.claims import best_claims, extension_claims, spread_claims
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 from pvfilter.scan import Scan
+
+__all__ = [
+    "LineDetection",
+    "best_claims",
+    "detect_lines",
+    "extension_claims",
+    "geometry_gates",
+    "spread_claims",
+]
 
 CANDIDATE_SHARE = 0.25  # 1: segments this new or more sit out the next ego-motion fit
 
@@ -95,100 +104,6 @@ def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams)
     )
 
 
-def extension_claims(
-    segments: Segments, lines: np.ndarray, params: ImprovedParams
-) -> tuple[np.ndarray, np.ndarray]:
-    """The points at the ends of each line that lie on it: (point index, line) pairs.
-
-    Going outward from each end, a point joins while it is within ``extend_tolerance_m``
-    (plus 1 % of its range) of the line and within ``break_distance_m`` (plus 2 %) of the
-    point before it, for at most ``extend_beams`` points.
-
-    Args:
-        segments: the segments.
-        lines: the segments that may extend.
-        params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``.
-    """
-    reach, m = params.extend_beams, len(segments.points)
-    if reach == 0 or lines.size == 0:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    points = segments.points
-    firsts = np.searchsorted(segments.labels, lines)
-    lasts = np.searchsorted(segments.labels, lines, side="right") - 1
-    # (2 * lines, reach) candidate points: before the first and after the last point
-    direction = np.repeat([-1, 1], lines.size)
-    owner = np.concatenate((lines, lines))
-    ends = np.concatenate((firsts, lasts))
-    index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
-    inside = (index >= 0) & (index < m)
-    index = np.clip(index, 0, m - 1)
-    candidate = points[index]
-    step = candidate - points[np.clip(index - direction[:, None], 0, m - 1)]
-    ranges = np.hypot(candidate[..., 0], candidate[..., 1])
-    normal, centre = segments.normals[owner], segments.centroids[owner]
-    off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
-    on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
-    on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
-    joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
-    return index[joined], np.broadcast_to(owner[:, None], index.shape)[joined]
-
-
-def spread_claims(
-    segments: Segments, lines: np.ndarray, new: np.ndarray, params: ImprovedParams
-) -> tuple[np.ndarray, np.ndarray]:
-    """New points anywhere in the scan that lie on a line: (point index, line) pairs.
-
-    All floor hits of one scan lie on one straight line, so fragments of it between
-    furniture legs, too short or too noisy to be segments of their own, are found by their
-    distance to the line (within ``extend_tolerance_m`` plus 1 % of the range, on the
-    line's side of the sensor).
-
-    Args:
-        segments: the segments.
-        lines: the segments that may claim points.
-        new: bool per valid point: new evidence.
-        params: ``extend_tolerance_m``.
-    """
-    candidates = indices(new)
-    if lines.size == 0 or candidates.size == 0:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    points = segments.points[candidates]
-    normals, centres = segments.normals[lines], segments.centroids[lines]
-    offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
-    near &= points @ centres.T > 0.0  # on the line's side of the sensor
-    point, line = np.nonzero(near)
-    return candidates[point], lines[line]
-
-
-def best_claims(
-    segments: Segments, score: np.ndarray, new: np.ndarray, params: ImprovedParams
-) -> tuple[np.ndarray, np.ndarray]:
-    """Per valid point: the highest-scoring line that takes it in, and that score.
-
-    A point belongs to its own segment, and may be claimed by the lines with a score
-    (extension at their ends, and with ``spread`` anywhere on them). At a threshold
-    ``p_th`` it is removed exactly when the best claim's score exceeds ``p_th``; the best
-    claimer is then detected, and the point joins its cluster.
-
-    Returns:
-        The owning segment per point, and its score.
-    """
-    owner = segments.labels.copy()
-    lines = indices(score > 0.0)
-    pairs = [extension_claims(segments, lines, params)]
-    if params.spread:
-        pairs.append(spread_claims(segments, lines, new, params))
-    points = np.concatenate([p for p, _ in pairs])
-    claimer = np.concatenate([c for _, c in pairs])
-    order = np.argsort(score[claimer], kind="stable")  # the best claim is written last
-    points, claimer = points[order], claimer[order]
-    better = score[claimer] > score[owner[points]]
-    owner[points[better]] = claimer[better]
-    return owner, score[owner]
-
-
 def detect_lines(
     scan: Scan,
     points: np.ndarray,
@@ -213,7 +128,7 @@ def detect_lines(
     """
     k, labels, n = len(segments), segments.labels, len(scan)
     sizes = np.maximum(segments.sizes, 1)
-    new_valid = new[segments.beams]
+    new_valid = new.take(segments.beams)
     share_new = np.bincount(labels, new_valid, k) / sizes
     # lines are fitted only when a big enough segment across the direction of travel has
     # new points (half the scans have none)
@@ -239,10 +154,13 @@ def detect_lines(
     # clusters: the detected segments, and the others with at least min_points points
     final_sizes = np.bincount(extended, minlength=k + 1)
     kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
-    cluster_of = np.where(kept, np.cumsum(kept) - 1, -1)
+    cluster_of = kept.cumsum() - 1
+    count = int(cluster_of[-1]) + 1
+    cluster_of[~kept] = -1
+    ids = cluster_of.take(extended)
     beam_labels = np.full(n, -1, dtype=np.intp)
-    beam_labels[segments.beams] = cluster_of[extended]
-    clusters = _cluster_set(scan, points, beam_labels, segments, cluster_of[extended])
+    beam_labels[segments.beams] = ids
+    clusters = _cluster_set(scan, points, beam_labels, segments, ids, count)
     claim_scores = np.zeros(n)
     claim_scores[segments.beams] = best
     candidates = np.zeros(n, dtype=bool)
@@ -268,22 +186,26 @@ def detect_lines(
 
 
 def _cluster_set(
-    scan: Scan, points: np.ndarray, beam_labels: np.ndarray, segments: Segments, ids: np.ndarray
+    scan: Scan,
+    points: np.ndarray,
+    beam_labels: np.ndarray,
+    segments: Segments,
+    ids: np.ndarray,
+    count: int,
 ) -> ClusterSet:
-    """The clusters as :class:`pvfilter.ClusterSet` (no KD-tree: this filter needs none)."""
-    member = ids >= 0
-    ids, xy = ids[member], segments.points[member]
-    c = int(ids.max()) + 1 if ids.size else 0
-    sizes = np.bincount(ids, minlength=c)
-    mean_x, mean_y = np.bincount(ids, xy[:, 0], c) / sizes, np.bincount(ids, xy[:, 1], c) / sizes
-    var_x = np.bincount(ids, xy[:, 0] ** 2, c) / sizes - mean_x**2
-    var_y = np.bincount(ids, xy[:, 1] ** 2, c) / sizes - mean_y**2
-    return ClusterSet(
-        scan,
-        points,
-        beam_labels,
-        sizes,
-        np.stack((mean_x, mean_y), axis=1),
-        np.stack((np.maximum(var_x, 0.0), np.maximum(var_y, 0.0)), axis=1),
-        None,
-    )
+    """The clusters as :class:`pvfilter.ClusterSet` (no KD-tree: this filter needs none).
+
+    ``ids``: cluster per valid point, -1 for none; ``count``: clusters (ids 0..count-1).
+    Points in no cluster are summed into an extra bin ``count`` and dropped, instead of
+    being filtered out first: the other bins get the same sums in the same order.
+    """
+    bins = np.where(ids < 0, count, ids)
+    sizes = np.bincount(bins, minlength=count + 1)[:count]
+    centroids, variances = np.empty((count, 2)), np.empty((count, 2))
+    for axis in (0, 1):
+        values = segments.points[:, axis]
+        total = np.bincount(bins, values, count + 1)[:count]
+        mean = np.divide(total, sizes, out=centroids[:, axis])
+        square = np.bincount(bins, np.square(values), count + 1)[:count] / sizes
+        np.maximum(np.subtract(square, np.square(mean), out=square), 0.0, out=variances[:, axis])
+    return ClusterSet(scan, points, beam_labels, sizes, centroids, variances, None)

@@ -38,7 +38,8 @@ def removal(detection: LineDetection) -> FilterResult:
     labels = detection.clusters.labels
     removed = np.concatenate((detection.detected, [False]))[labels]  # label -1: the appended False
     scan = detection.clusters.scan
-    filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges))
+    # most scans lose no beam: a scan is immutable, so it is its own filtered copy
+    filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges)) if removed.any() else scan
     tracked = np.zeros(len(detection.clusters), dtype=bool)  # no tracking module
     return FilterResult(filtered, removed, detection.claim_scores, detection, tracked)
 
@@ -86,7 +87,7 @@ class ImprovedPitchVariationFilter:
         points = layout.points(ranges)
         beams = indices(valid)
         # segment: split lines across the direction of travel from what they touch
-        segments = segment_scan(points[beams], beams, params)
+        segments = segment_scan(points.take(beams, axis=0), beams, params)
         # ego-motion, then the level view moved into this scan's frame
         motion, view = Motion(), None
         if not new_sequence:
@@ -105,14 +106,12 @@ class ImprovedPitchVariationFilter:
             # near the predicted floor, and not where the level view saw structure (a
             # wall far ahead is hit just above the floor when the tilt is small)
             floor = np.zeros(len(scan), dtype=bool)
-            floor[beams] = floor_points(points[beams], *attitude, params)
-            seen = np.zeros(len(scan), dtype=bool)
-            np.less_equal(gaps, params.imu_floor_tolerance_m, where=~np.isnan(gaps), out=seen)
-            floor &= ~seen
+            floor[beams] = floor_points(segments.points, *attitude, params)
+            floor &= ~(gaps <= params.imu_floor_tolerance_m)  # NaN (unknown) compares False
         # detect: score segments, check the tilted-plane geometry, extend the lines
         detection = detect_lines(scan, points, segments, new, floor, params, motion, new_sequence)
         # remember: the level view, and the points the next ego-motion fit may use
-        self._memory.update(ranges, np.isposinf(scan.ranges), view, dt, params)
+        self._memory.update(ranges, scan.ranges == np.inf, view, dt, params)
         moving = new | detection.floor_points | detection.candidates
         points[moving] = np.nan
         self._previous_points, self._motion = points, motion

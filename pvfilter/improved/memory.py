@@ -71,11 +71,12 @@ class LevelMemory:
         state = self.state
         remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
         known = indices(~np.isnan(remembered))
-        moved = motion.apply(layout.points(remembered)[known])
+        moved = motion.apply(layout.points(remembered).take(known, axis=0))
         ranges = np.hypot(moved[:, 0], moved[:, 1])
         beams = layout.beam_of(moved)
         order = np.argsort(-ranges)  # the nearest point is written last and wins its beam
-        order = order[beams[order] >= 0]
+        if not layout.ring:  # on a ring every point lands on a beam
+            order = order[beams[order] >= 0]
         target, source = beams[order], known[order]
         n = layout.count
         level, ages, ahead = np.full(n, np.nan), np.full(n, np.inf), np.zeros(n)
@@ -113,10 +114,10 @@ class LevelMemory:
         shrink = params.memory_shrink_mps * dt
         floor = level - shrink if shrink < np.inf else np.full(n, -np.inf)
         floor[np.isnan(floor)] = -np.inf
-        held = np.less(ranges, floor, where=valid, out=np.zeros(n, dtype=bool))
+        held = ranges < floor  # NaN (invalid) compares False
         ahead = np.where(held, ahead + dt, 0.0)  # in front of the view for this long
         settled = ahead > params.max_event_s
-        level[valid] = np.fmax(ranges[valid], floor[valid])
+        np.copyto(level, np.fmax(ranges, floor), where=valid)
         level[settled] = ranges[settled]
         ahead[settled] = 0.0
         ages[valid] = 0.0
@@ -134,15 +135,8 @@ def free_space_gaps(
     side; beams whose own view is unknown, and invalid beams (``ranges`` NaN), get NaN.
     ``+inf`` means the level view saw nothing within ``range_max`` along the beam.
     """
-    window = 2 * params.memory_window_beams + 1
     unknown = np.isnan(level)
-    nearest = (
-        level
-        if window == 1
-        else minimum_filter1d(
-            np.where(unknown, np.inf, level), window, mode="wrap" if layout.ring else "nearest"
-        )
-    )
+    nearest = window_minimum(np.where(unknown, np.inf, level), params.memory_window_beams, layout)
     gaps = nearest - ranges
     gaps[unknown] = np.nan
     return gaps
@@ -159,8 +153,30 @@ def new_points(
         margin_m: fixed part of the margin, m.
         margin_rel: part of the margin per metre of range, 1.
     """
-    out = np.zeros(len(gaps), dtype=bool)
-    return np.greater(gaps, margin_m + margin_rel * ranges, where=~np.isnan(gaps), out=out)
+    return gaps > margin_m + margin_rel * ranges  # NaN (unknown, invalid) compares False
+
+
+def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:
+    """The least of ``values`` over beams ``i - half .. i + half`` (no NaN in ``values``).
+
+    As ``scipy.ndimage.minimum_filter1d`` (wrapping on a ring, else repeating the end
+    values), but for the usual window of three beams two ``np.minimum`` calls on a padded
+    copy cost a fraction of scipy's set-up.
+    """
+    n = len(values)
+    if half == 0 or n == 0:
+        return values
+    if half >= n or half > 4:
+        mode = "wrap" if layout.ring else "nearest"
+        return minimum_filter1d(values, 2 * half + 1, mode=mode)
+    if layout.ring:
+        padded = np.concatenate((values[n - half :], values, values[:half]))
+    else:
+        padded = np.concatenate((values[:1].repeat(half), values, values[-1:].repeat(half)))
+    least = padded[:n].copy()
+    for offset in range(1, 2 * half + 1):
+        np.minimum(least, padded[offset : offset + n], out=least)
+    return least
 
 
 def _fill_single_holes(level: np.ndarray, ages: np.ndarray, ahead: np.ndarray) -> None:

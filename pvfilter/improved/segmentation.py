@@ -49,16 +49,18 @@ def local_directions(
     if m == 0:
         return np.zeros(0)
     at = np.arange(m)
-    low, high = np.maximum(at - half_width, 0), np.minimum(at + half_width, m - 1)
-    if runs is not None:
+    if runs is None:
+        low, high = np.maximum(at - half_width, 0), np.minimum(at + half_width, m - 1)
+    else:  # a run's first point is >= 0 and its last <= m - 1: they bound the scan too
         ends = (runs[1:] != runs[:-1]).nonzero()[0] + 1  # first point of each later run
-        low = np.maximum(low, np.concatenate(([0], ends))[runs])
-        high = np.minimum(high, np.concatenate((ends, [m]))[runs] - 1)
-    chord = points[high] - points[low]
+        low = np.maximum(at - half_width, np.concatenate(([0], ends)).take(runs))
+        high = np.minimum(at + half_width, np.concatenate((ends, [m])).take(runs) - 1)
+    chord = points.take(high, axis=0)
+    chord -= points.take(low, axis=0)
     angle = np.arctan2(chord[:, 1], chord[:, 0])
-    # a line has no sense of direction: fold into (-pi/2, pi/2]
-    angle[angle > 0.5 * np.pi] -= np.pi
-    angle[angle <= -0.5 * np.pi] += np.pi
+    # a line has no sense of direction: fold into (-pi/2, pi/2], in place
+    np.subtract(angle, np.pi, out=angle, where=angle > 0.5 * np.pi)
+    np.add(angle, np.pi, out=angle, where=angle <= -0.5 * np.pi)
     return angle
 
 
@@ -143,7 +145,8 @@ def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) 
     step = points[1:] - points[:-1]
     gap = np.hypot(step[:, 0], step[:, 1])
     jumps = gap > params.break_distance_m + 0.02 * np.hypot(points[1:, 0], points[1:, 1])
-    runs = np.concatenate(([0], jumps.cumsum()))
+    runs = np.zeros(m, dtype=np.intp)
+    np.cumsum(jumps, out=runs[1:])
     directions = local_directions(points, params.local_fit_beams, runs)
     across = np.abs(np.sin(directions)) > math.cos(math.radians(params.line_angle_deg))
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1

@@ -1,0 +1,109 @@
+"""Claims: which detected line each point joins, beyond its own segment.
+
+A segment's points belong to it; a line with a score may also take in points outside it
+(:mod:`pvfilter.improved.detection`, step 4): those at its ends that lie on it, and with
+``spread`` every new point of the scan on it. Each point then goes to the best-scoring line
+that takes it in, so one score per point says at which thresholds it is removed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pvfilter.improved.beams import indices
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments
+
+
+def extension_claims(
+    segments: Segments, lines: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """The points at the ends of each line that lie on it: (point index, line) pairs.
+
+    Going outward from each end, a point joins while it is within ``extend_tolerance_m``
+    (plus 1 % of its range) of the line and within ``break_distance_m`` (plus 2 %) of the
+    point before it, for at most ``extend_beams`` points.
+
+    Args:
+        segments: the segments.
+        lines: the segments that may extend.
+        params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``.
+    """
+    reach, m = params.extend_beams, len(segments.points)
+    if reach == 0 or lines.size == 0:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    points = segments.points
+    firsts = np.searchsorted(segments.labels, lines)
+    lasts = np.searchsorted(segments.labels, lines, side="right") - 1
+    # (2 * lines, reach) candidate points: before the first and after the last point
+    direction = np.repeat([-1, 1], lines.size)
+    owner = np.concatenate((lines, lines))
+    ends = np.concatenate((firsts, lasts))
+    index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
+    inside = (index >= 0) & (index < m)
+    index = np.clip(index, 0, m - 1)
+    candidate = points[index]
+    step = candidate - points[np.clip(index - direction[:, None], 0, m - 1)]
+    ranges = np.hypot(candidate[..., 0], candidate[..., 1])
+    normal, centre = segments.normals[owner], segments.centroids[owner]
+    off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
+    on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
+    on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
+    joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
+    return index[joined], np.broadcast_to(owner[:, None], index.shape)[joined]
+
+
+def spread_claims(
+    segments: Segments, lines: np.ndarray, new: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """New points anywhere in the scan that lie on a line: (point index, line) pairs.
+
+    All floor hits of one scan lie on one straight line, so fragments of it between
+    furniture legs, too short or too noisy to be segments of their own, are found by their
+    distance to the line (within ``extend_tolerance_m`` plus 1 % of the range, on the
+    line's side of the sensor).
+
+    Args:
+        segments: the segments.
+        lines: the segments that may claim points.
+        new: bool per valid point: new evidence.
+        params: ``extend_tolerance_m``.
+    """
+    candidates = indices(new)
+    if lines.size == 0 or candidates.size == 0:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    points = segments.points[candidates]
+    normals, centres = segments.normals[lines], segments.centroids[lines]
+    offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
+    ranges = np.hypot(points[:, 0], points[:, 1])
+    near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
+    near &= points @ centres.T > 0.0  # on the line's side of the sensor
+    point, line = np.nonzero(near)
+    return candidates[point], lines[line]
+
+
+def best_claims(
+    segments: Segments, score: np.ndarray, new: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per valid point: the highest-scoring line that takes it in, and that score.
+
+    A point belongs to its own segment, and may be claimed by the lines with a score
+    (extension at their ends, and with ``spread`` anywhere on them). At a threshold
+    ``p_th`` it is removed exactly when the best claim's score exceeds ``p_th``; the best
+    claimer is then detected, and the point joins its cluster.
+
+    Returns:
+        The owning segment per point, and its score.
+    """
+    owner = segments.labels.copy()
+    lines = indices(score > 0.0)
+    pairs = [extension_claims(segments, lines, params)]
+    if params.spread:
+        pairs.append(spread_claims(segments, lines, new, params))
+    points = np.concatenate([p for p, _ in pairs])
+    claimer = np.concatenate([c for _, c in pairs])
+    order = np.argsort(score[claimer], kind="stable")  # the best claim is written last
+    points, claimer = points[order], claimer[order]
+    better = score[claimer] > score[owner[points]]
+    owner[points[better]] = claimer[better]
+    return owner, score[owner]
