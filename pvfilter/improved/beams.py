@@ -64,9 +64,11 @@ class BeamLayout:
     def beam_of(self, points: np.ndarray) -> np.ndarray:
         """The beam each point lies on, ``(k,)``; -1 where outside the scan's angles."""
         bearing = np.arctan2(points[:, 1], points[:, 0])
-        beams = np.rint((bearing - self.angle_min) / self.increment).astype(np.intp)
+        bearing -= self.angle_min  # in place: this runs on every beam of every scan
+        bearing /= self.increment
+        beams = np.rint(bearing, out=bearing).astype(np.intp)
         if self.ring:
-            return beams % self.count
+            return np.remainder(beams, self.count, out=beams)
         beams[(beams < 0) | (beams >= self.count)] = -1
         return beams
 

@@ -155,16 +155,15 @@ def detect_lines(
     final_sizes = np.bincount(extended, minlength=k + 1)
     kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
     cluster_of = kept.cumsum() - 1
-    count = int(cluster_of[-1]) + 1
     cluster_of[~kept] = -1
     ids = cluster_of.take(extended)
     beam_labels = np.full(n, -1, dtype=np.intp)
     beam_labels[segments.beams] = ids
-    clusters = _cluster_set(scan, points, beam_labels, segments, ids, count)
+    clusters = _cluster_set(scan, points, beam_labels, segments, ids, final_sizes[kept])
     claim_scores = np.zeros(n)
     claim_scores[segments.beams] = best
     candidates = np.zeros(n, dtype=bool)
-    candidates[segments.beams] = (score[:k] > CANDIDATE_SHARE)[labels]
+    candidates[segments.beams] = (score[:k] > CANDIDATE_SHARE).take(labels)
     in_cluster = np.bincount(extended, new_valid, k + 1) / np.maximum(final_sizes, 1)
     return LineDetection(
         clusters=clusters,
@@ -191,16 +190,16 @@ def _cluster_set(
     beam_labels: np.ndarray,
     segments: Segments,
     ids: np.ndarray,
-    count: int,
+    sizes: np.ndarray,
 ) -> ClusterSet:
     """The clusters as :class:`pvfilter.ClusterSet` (no KD-tree: this filter needs none).
 
-    ``ids``: cluster per valid point, -1 for none; ``count``: clusters (ids 0..count-1).
+    ``ids``: cluster per valid point, -1 for none; ``sizes``: points per cluster.
     Points in no cluster are summed into an extra bin ``count`` and dropped, instead of
     being filtered out first: the other bins get the same sums in the same order.
     """
+    count = len(sizes)
     bins = np.where(ids < 0, count, ids)
-    sizes = np.bincount(bins, minlength=count + 1)[:count]
     centroids, variances = np.empty((count, 2)), np.empty((count, 2))
     for axis in (0, 1):
         values = segments.points[:, axis]

@@ -82,7 +82,8 @@ class ImprovedPitchVariationFilter:
         params = self.params
         new_sequence, dt = self._start(scan)
         layout = self._layout
-        valid = scan.valid_mask()
+        # scan.valid_mask(), without its errstate guard: comparisons with NaN never warn
+        valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max)
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
         beams = indices(valid)

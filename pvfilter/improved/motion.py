@@ -60,7 +60,8 @@ class Motion:
         # a matrix product, not x c - y s by hand: BLAS fuses multiply and add, and the
         # filter's results are kept bit for bit
         moved = points @ np.array([[c, s], [-s, c]])
-        moved += (self.tx_m, self.ty_m)
+        moved[:, 0] += self.tx_m  # per column: broadcasting a pair over rows is slower
+        moved[:, 1] += self.ty_m
         return moved
 
 
