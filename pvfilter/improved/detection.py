@@ -129,15 +129,19 @@ def detect_lines(
     k, labels, n = len(segments), segments.labels, len(scan)
     sizes = np.maximum(segments.sizes, 1)
     new_valid = new.take(segments.beams)
-    share_new = np.bincount(labels, new_valid, k) / sizes
+    # most scans have no new point at all: their shares are 0, and nothing is fitted
+    any_new = bool(new_valid.any())
+    share_new = np.bincount(labels, new_valid, k) / sizes if any_new else np.zeros(k)
     # lines are fitted only when a big enough segment across the direction of travel has
     # new points (half the scans have none)
-    if (segments.across & (segments.sizes >= params.min_points) & (share_new > 0.0)).any():
+    fitted = any_new and bool(
+        (segments.across & (segments.sizes >= params.min_points) & (share_new > 0.0)).any()
+    )
+    if fitted:
         tilt, roll = segments.implied_tilt_roll(params.lidar_height_m)
         gates = geometry_gates(segments, roll, params)
         distances = segments.distances
     else:  # nothing to score
-        tilt = roll = distances = np.full(k, np.nan)
         gates = np.zeros(k, dtype=bool)
     score = np.where(gates, share_new, 0.0)
     if score.any():
@@ -164,7 +168,19 @@ def detect_lines(
     claim_scores[segments.beams] = best
     candidates = np.zeros(n, dtype=bool)
     candidates[segments.beams] = (score[:k] > CANDIDATE_SHARE).take(labels)
-    in_cluster = np.bincount(extended, new_valid, k + 1) / np.maximum(final_sizes, 1)
+    in_cluster = (
+        np.bincount(extended, new_valid, k + 1) / np.maximum(final_sizes, 1)
+        if any_new
+        else np.zeros(k + 1)
+    )
+    count = len(clusters)
+    if fitted:  # per cluster: its segment's line (none for the IMU's cluster)
+        line_distances = np.concatenate((distances, [np.nan]))[kept]
+        implied_tilt = np.concatenate((tilt, [np.nan]))[kept]
+        implied_roll = np.concatenate((roll, [np.nan]))[kept]
+    else:
+        line_distances, implied_tilt = np.full(count, np.nan), np.full(count, np.nan)
+        implied_roll = np.full(count, np.nan)
     return LineDetection(
         clusters=clusters,
         v_c=perpendicular_variance_ratio(clusters.variances),
@@ -176,9 +192,9 @@ def detect_lines(
         new_points=new,
         floor_points=np.zeros(n, dtype=bool) if floor is None else floor,
         candidates=candidates,
-        line_distances=np.concatenate((distances, [np.nan]))[kept],
-        implied_tilt_rad=np.concatenate((tilt, [np.nan]))[kept],
-        implied_roll_rad=np.concatenate((roll, [np.nan]))[kept],
+        line_distances=line_distances,
+        implied_tilt_rad=implied_tilt,
+        implied_roll_rad=implied_roll,
         motion=motion,
         claim_scores=claim_scores,
     )

@@ -97,11 +97,11 @@ class ImprovedPitchVariationFilter:
             motion = self._ego_motion(layout, points, directions, dt)
             view = self._memory.view(layout, scan.range_max, motion, params)
         # evidence: returns in previously free space, and the IMU's floor
-        new = np.zeros(len(scan), dtype=bool)
-        gaps = np.full(len(scan), np.nan)
         if view is not None:
             gaps = free_space_gaps(ranges, view.ranges, layout, params)
             new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
+        else:
+            gaps, new = np.full(len(scan), np.nan), np.zeros(len(scan), dtype=bool)
         floor = None
         if attitude is not None:
             # near the predicted floor, and not where the level view saw structure (a
