@@ -31,6 +31,22 @@ class StampWentBackWarning(UserWarning):
     """A scan's stamp was earlier than the previous scan's; the filter's history was reset."""
 
 
+def stamp_went_back(stamp: float, previous: float | None, stacklevel: int) -> bool:
+    """True (with a :class:`StampWentBackWarning`) when ``stamp`` is earlier than ``previous``.
+
+    Both filters reset their history then: scans out of order cannot be compared.
+    """
+    if previous is None or stamp >= previous:
+        return False
+    warnings.warn(
+        f"scan stamp {stamp} s is earlier than the previous {previous} s; "
+        "the filter's history was reset",
+        StampWentBackWarning,
+        stacklevel=stacklevel + 1,
+    )
+    return True
+
+
 @dataclasses.dataclass(frozen=True, eq=False)  # holds an array: no field-wise ==
 class ClusterRecord:
     """One seed cluster of a scan and what the filter decided about it.
@@ -168,14 +184,7 @@ class PitchVariationFilter:
 
     def _start(self, scan: Scan) -> bool:
         """Note the scan's stamp; True when it starts a new sequence (history dropped)."""
-        previous = self._previous_stamp
-        if previous is not None and scan.stamp < previous:
-            warnings.warn(
-                f"scan stamp {scan.stamp} s is earlier than the previous {previous} s; "
-                "the filter's history was reset",
-                StampWentBackWarning,
-                stacklevel=4,
-            )
+        if stamp_went_back(scan.stamp, self._previous_stamp, stacklevel=4):
             self._new_sequence = True
         new_sequence, self._new_sequence = self._new_sequence, False
         if new_sequence:

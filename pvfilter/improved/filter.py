@@ -14,7 +14,6 @@ level-view memory afresh (it is kept per beam).
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
@@ -25,7 +24,7 @@ from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
 from pvfilter.improved.motion import Motion, estimate_motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import segment_scan
-from pvfilter.pipeline import FilterResult, StampWentBackWarning
+from pvfilter.pipeline import FilterResult, stamp_went_back
 from pvfilter.scan import Scan
 
 
@@ -139,13 +138,7 @@ class ImprovedPitchVariationFilter:
     def _start(self, scan: Scan) -> tuple[bool, float]:
         """Check stamp and beams: does the scan start a sequence, and the time step, s."""
         previous = self._previous_stamp
-        if previous is not None and scan.stamp < previous:
-            warnings.warn(
-                f"scan stamp {scan.stamp} s is earlier than the previous {previous} s; "
-                "the filter's history was reset",
-                StampWentBackWarning,
-                stacklevel=3,
-            )
+        if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
         self._previous_stamp = scan.stamp
         new_sequence = self._new_sequence or self._layout is None or not self._layout.fits(scan)

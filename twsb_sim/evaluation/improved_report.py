@@ -11,6 +11,7 @@ matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from twsb_sim.evaluation.plots import save_figure, style_pr_axes
 from twsb_sim.evaluation.report import _f, _table
 
 TARGETS = {"auc": 0.95, "precision": 0.9, "static_removed_pct": 1.0, "rate_hz": 2000.0}
@@ -135,13 +136,5 @@ def plot_improved(results: dict, path: Path) -> None:
                 recall[order], precision[order], style, color=colour, marker=marker, ms=3,
                 label=f"{labels.get(name, name)} (AUC {m['auc']:.3f})",
             )  # fmt: skip
-        ax.set_xlim(-0.02, 1.02)
-        ax.set_ylim(-0.02, 1.02)
-        ax.set_xlabel("recall")
-        ax.set_ylabel("precision")
-        ax.set_title(seq.replace("_", " "))
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7.5, loc="lower left")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+        style_pr_axes(ax, seq, legend_loc="lower left")
+    save_figure(fig, path)

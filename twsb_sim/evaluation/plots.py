@@ -30,10 +30,22 @@ CONDITION_STYLES = {  # scan-matching condition -> (label, colour)
 DPI = 90  # small files: the plots are committed to the docs
 
 
-def _save(fig: plt.Figure, path: Path) -> None:
+def save_figure(fig: plt.Figure, path: Path) -> None:
+    """Lay out, write (small PNG) and close a figure."""
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
+
+
+def style_pr_axes(ax: plt.Axes, sequence: str, legend_loc: str) -> None:
+    """Axes, labels, title and legend shared by every PR-curve panel."""
+    ax.set_xlim(-0.02, 1.02)
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel("recall")
+    ax.set_ylabel("precision")
+    ax.set_title(sequence.replace("_", " "))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7.5, loc=legend_loc)
 
 
 def plot_pr_curves(results: dict, path: Path) -> None:
@@ -54,14 +66,8 @@ def plot_pr_curves(results: dict, path: Path) -> None:
                     if speed in curve["thresholds"]:
                         i = curve["thresholds"].index(speed)
                         ax.annotate(f"{speed:g}", (recall[i], precision[i]), fontsize=7)
-        ax.set_xlim(-0.02, 1.02)
-        ax.set_ylim(-0.02, 1.02)
-        ax.set_xlabel("recall")
-        ax.set_ylabel("precision")
-        ax.set_title(seq.replace("_", " "))
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7.5, loc="upper right")
-    _save(fig, path)
+        style_pr_axes(ax, seq, legend_loc="upper right")
+    save_figure(fig, path)
 
 
 def plot_timing(results: dict, path: Path) -> None:
@@ -85,7 +91,7 @@ def plot_timing(results: dict, path: Path) -> None:
     right.set_xlabel("frames per second (all runs)")
     right.set_xlim(right=max(rates) * 1.35)  # room for the labels
     right.grid(alpha=0.3, axis="x")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_chamfer(results: dict, path: Path) -> None:
@@ -107,7 +113,7 @@ def plot_chamfer(results: dict, path: Path) -> None:
         ax.set_title(f"{kind}: {what} ({matching['events']} events)", fontsize=9)
         ax.grid(alpha=0.3, axis="y")
         ax.legend(fontsize=7.5, ncols=3, loc="upper center")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_pose_errors(results: dict, path: Path) -> None:
@@ -131,4 +137,4 @@ def plot_pose_errors(results: dict, path: Path) -> None:
             ax.set_title(f"{kind} frames", fontsize=9)
             ax.grid(alpha=0.3, axis="y")
     axes[0, 0].legend(fontsize=7.5, ncols=3, loc="upper center")
-    _save(fig, path)
+    save_figure(fig, path)
