@@ -1,12 +1,14 @@
 """Claims: which detected line each point joins, beyond its own segment.
 
 A segment's points belong to it; a line with a score may also take in points outside it
-(:mod:`pvfilter.improved.detection`, step 4): those at its ends that lie on it, and with
-``spread`` every new point of the scan on it. Each point then goes to the best-scoring line
+(:mod:`pvfilter.improved.detection`, step 5): those at its ends that lie on it, and with
+``spread`` every point of the scan on it. Each point then goes to the best-scoring line
 that takes it in, so one score per point says at which thresholds it is removed.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -54,36 +56,39 @@ def extension_claims(
 
 
 def spread_claims(
-    segments: Segments, lines: np.ndarray, new: np.ndarray, params: ImprovedParams
+    segments: Segments, lines: np.ndarray, params: ImprovedParams
 ) -> tuple[np.ndarray, np.ndarray]:
-    """New points anywhere in the scan that lie on a line: (point index, line) pairs.
+    """Points anywhere in the scan that lie on a line: (point index, line) pairs.
 
     All floor hits of one scan lie on one straight line, so fragments of it between
-    furniture legs, too short or too noisy to be segments of their own, are found by their
-    distance to the line (within ``extend_tolerance_m`` plus 1 % of the range, on the
-    line's side of the sensor).
+    furniture legs, too short or too noisy to be segments of their own, and stretches of it
+    too close to the structure behind to count as new, are found by their distance to the
+    line (within ``extend_tolerance_m`` plus 1 % of the range, on the line's side of the
+    sensor) and their local direction (within ``line_angle_deg`` of the line's): a wall
+    that the line runs into crosses it, and stays out.
 
     Args:
         segments: the segments.
         lines: the segments that may claim points.
-        new: bool per valid point: new evidence.
-        params: ``extend_tolerance_m``.
+        params: ``extend_tolerance_m`` and ``line_angle_deg``.
     """
-    candidates = indices(new)
-    if lines.size == 0 or candidates.size == 0:
+    if lines.size == 0 or len(segments.points) == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    points = segments.points[candidates]
+    points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
     offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
     ranges = np.hypot(points[:, 0], points[:, 1])
     near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
     near &= points @ centres.T > 0.0  # on the line's side of the sensor
+    # running along the line, not crossing it (a wall the line runs into)
+    along = np.stack((np.cos(segments.directions), np.sin(segments.directions)), axis=1)
+    near &= np.abs(along @ normals.T) < math.sin(math.radians(params.line_angle_deg))
     point, line = np.nonzero(near)
-    return candidates[point], lines[line]
+    return point, lines[line]
 
 
 def best_claims(
-    segments: Segments, score: np.ndarray, new: np.ndarray, params: ImprovedParams
+    segments: Segments, score: np.ndarray, params: ImprovedParams
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per valid point: the highest-scoring line that takes it in, and that score.
 
@@ -99,7 +104,7 @@ def best_claims(
     lines = indices(score > 0.0)
     pairs = [extension_claims(segments, lines, params)]
     if params.spread:
-        pairs.append(spread_claims(segments, lines, new, params))
+        pairs.append(spread_claims(segments, lines, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
     order = np.argsort(score[claimer], kind="stable")  # the best claim is written last

@@ -10,10 +10,17 @@ Per segment of the scan (:mod:`pvfilter.improved.segmentation`):
    score.
 3. **Score and decision**: ``P(C_pv)`` is that share; the segment is detected when it
    exceeds ``p_th``.
-4. **Extension**: a detected line takes in up to ``extend_beams`` points at each end that
+4. **The down side**: a tilted scan plane goes down on one side of the sensor and up on
+   the other, so the floor is on one side only, the side of the scan's strongest line (the
+   gated segment with the most new points, at least ``down_side_min_new``). Lines on the
+   other side can only be ceilings or the undersides of tables, and are far more often
+   furniture met at another height: their score is multiplied by ``up_side_weight``, so
+   they are removed at low thresholds only.
+5. **Extension**: a detected line takes in up to ``extend_beams`` points at each end that
    lie on it (the corner where the local fit straddled line and wall), and, with
-   ``spread``, every new point of the scan that lies on it (all floor hits of one scan lie
-   on one line: fragments between furniture legs).
+   ``spread``, every point of the scan that lies on it (all floor hits of one scan lie on
+   one line: fragments between furniture legs, and stretches too close to the structure
+   behind them to be new).
 
 With the IMU, the points on its predicted floor (:mod:`pvfilter.improved.imu`) form one
 more cluster of the scan, removed whatever ``p_th`` (score 1): the IMU's evidence needs no
@@ -53,6 +60,7 @@ __all__ = [
     "extension_claims",
     "geometry_gates",
     "spread_claims",
+    "up_side_weights",
 ]
 
 CANDIDATE_SHARE = 0.25  # 1: segments this new or more sit out the next ego-motion fit
@@ -66,8 +74,9 @@ class LineDetection(Detection):
         new_points: bool per beam: in space the level view saw as free.
         floor_points: bool per beam: on the IMU's floor (all False without the IMU).
         candidates: bool per beam: in a segment that passes the geometry gates with a
-            score above ``CANDIDATE_SHARE``, whatever ``p_th`` (the next scan's ego-motion
-            fit leaves them out).
+            score above ``CANDIDATE_SHARE``, whatever ``p_th``: the next scan's ego-motion
+            fit leaves them out, and with ``hold_behind_lines`` the level view does not
+            come closer behind them.
         line_distances: per cluster, distance of its fitted line from the sensor, m (NaN
             where not fitted: nothing in the scan was new).
         implied_tilt_rad: per cluster, the scan plane's tilt that puts the floor there.
@@ -102,6 +111,34 @@ def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams)
         & (segments.distances >= params.min_line_distance_m)
         & (roll <= math.radians(params.max_roll_deg))
     )
+
+
+def up_side_weights(
+    segments: Segments, new_counts: np.ndarray, gates: np.ndarray, params: ImprovedParams
+) -> np.ndarray:
+    """Per segment: ``up_side_weight`` on the far side of the strongest line, else 1.
+
+    The strongest line is the gated segment with the most new points; with fewer than
+    ``down_side_min_new`` it fixes no side, and every weight is 1. A segment is on the far
+    side when its centroid lies on the other side of the sensor (negative dot product of
+    the two centroids).
+
+    Args:
+        segments: the segments (their lines fitted).
+        new_counts: new points per segment.
+        gates: per segment, it passes the geometry gates.
+        params: ``up_side_weight`` and ``down_side_min_new``.
+    """
+    weights = np.ones(len(segments))
+    if params.up_side_weight == 1.0 or not gates.any():
+        return weights
+    strength = np.where(gates, new_counts, 0.0)
+    strongest = int(np.argmax(strength))
+    if strength[strongest] < params.down_side_min_new:
+        return weights
+    centroids = segments.centroids
+    weights[centroids @ centroids[strongest] < 0.0] = params.up_side_weight
+    return weights
 
 
 def detect_lines(
@@ -144,8 +181,10 @@ def detect_lines(
     else:  # nothing to score
         gates = np.zeros(k, dtype=bool)
     score = np.where(gates, share_new, 0.0)
+    if fitted:
+        score *= up_side_weights(segments, share_new * segments.sizes, gates, params)
     if score.any():
-        owner, best = best_claims(segments, score, new_valid, params)
+        owner, best = best_claims(segments, score, params)
     else:  # nothing new (most scans): every point stays in its segment, unclaimed
         owner, best = labels.copy(), np.zeros(len(labels))
     # the IMU's floor points form one more cluster, certain (score 1) whatever p_th

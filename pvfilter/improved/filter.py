@@ -111,7 +111,8 @@ class ImprovedPitchVariationFilter:
         # detect: score segments, check the tilted-plane geometry, extend the lines
         detection = detect_lines(scan, points, segments, new, floor, params, motion, new_sequence)
         # remember: the level view, and the points the next ego-motion fit may use
-        self._memory.update(ranges, scan.ranges == np.inf, view, dt, params)
+        hold = detection.candidates if params.hold_behind_lines else None
+        self._memory.update(ranges, scan.ranges == np.inf, view, dt, params, hold)
         moving = new | detection.floor_points | detection.candidates
         points[moving] = np.nan
         self._previous_points, self._motion = points, motion

@@ -15,13 +15,17 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   ``memory_shrink_mps`` times the time step: a line that jumps in front of the level view
   (a floor line sweeps in at metres per second) stays "new" for many frames, while a
   person walking in or an ego-motion error is absorbed within a few;
+- behind a segment that may be a floor line (``hold_behind_lines``) the view does not
+  come closer at all: a floor line that creeps in slowly, as the robot leans into an
+  acceleration, stays new until the event ends;
 - beams with no return within range (``+inf``) remember free space up to ``range_max``;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts: the balance controller levels the robot) replaces it: the view was wrong.
 
-The memory does not depend on what the filter removed, so the filter's state, and with it
-every threshold of a precision-recall sweep, follows from the scans alone.
+The memory does not depend on what the filter removed (the segments it holds behind are
+chosen whatever ``p_th``), so the filter's state, and with it every threshold of a
+precision-recall sweep, follows from the scans alone.
 """
 
 from __future__ import annotations
@@ -95,6 +99,7 @@ class LevelMemory:
         view: LevelView | None,
         dt: float,
         params: ImprovedParams,
+        hold: np.ndarray | None = None,
     ) -> None:
         """Take a scan into the memory.
 
@@ -104,6 +109,7 @@ class LevelMemory:
             view: what :meth:`view` returned for it; None for the first scan of a sequence.
             dt: time since the previous scan, s.
             params: ``memory_shrink_mps`` and ``max_event_s`` are used.
+            hold: bool per beam: the view does not come closer there (None: nowhere).
         """
         n = len(ranges)
         valid = ~np.isnan(ranges)
@@ -113,6 +119,8 @@ class LevelMemory:
             level, ages, ahead = view.ranges.copy(), view.ages + dt, view.ahead_s
         shrink = params.memory_shrink_mps * dt
         floor = level - shrink if shrink < np.inf else np.full(n, -np.inf)
+        if hold is not None:
+            np.copyto(floor, level, where=hold)
         floor[np.isnan(floor)] = -np.inf
         held = ranges < floor  # NaN (invalid) compares False
         ahead = np.where(held, ahead + dt, 0.0)  # in front of the view for this long

@@ -46,6 +46,10 @@ class ImprovedParams:
             the view takes it.
         memory_timeout_s: a beam's level view is forgotten when nothing confirmed it for
             this long, s (e.g. while the sector was hidden behind the robot's leg).
+        hold_behind_lines: the level view does not come closer behind a segment that may
+            be a floor line (it passes the geometry gates and is mostly new): the line then
+            stays new for the whole event, however slowly it moves in the sensor frame
+            (the robot pitched and driving at about its own pace).
         ego_motion: compensate the sensor's own rotation and translation between scans
             (a one-step point-to-line fit on the scan itself; no odometry needed).
         max_yaw_rate_rad_s: fastest turn the ego-motion search considers, rad/s.
@@ -63,8 +67,16 @@ class ImprovedParams:
             while the points stay on it, beams (the corner where a floor line meets a wall).
         extend_tolerance_m: distance from the line within which a point still extends it,
             m (plus 1 % of the range).
-        spread: new points anywhere on a detected line join it (all floor hits of one
-            scan lie on one line: fragments between furniture legs).
+        spread: points anywhere on a detected line join it (all floor hits of one scan
+            lie on one line: fragments between furniture legs, and stretches of it too close
+            to the structure behind to be new).
+        up_side_weight: a tilted scan plane goes down on one side of the sensor and up on
+            the other, and the floor is only on the down side: the side of the scan's
+            strongest line. Lines on the other side (ceilings and table undersides, but
+            mostly furniture met at another height, which a level scanner never saw) get
+            their score times this, 1 (1: no side cue).
+        down_side_min_new: the strongest line fixes the down side only with at least this
+            many new points, points.
         p_th: a segment is removed when the share of its points that are new
             (in previously seen free space) or on the IMU's floor line exceeds this, 1.
         imu_floor_tolerance_m: with pitch and roll given, a point whose height above the
@@ -85,6 +97,7 @@ class ImprovedParams:
     memory_shrink_mps: float = 0.75  # m/s
     max_event_s: float = 2.0  # s
     memory_timeout_s: float = 1.5  # s
+    hold_behind_lines: bool = True
     ego_motion: bool = True
     max_yaw_rate_rad_s: float = 1.5  # rad/s
     association_m: float = 0.25  # m
@@ -95,6 +108,8 @@ class ImprovedParams:
     extend_beams: int = 10  # beams
     extend_tolerance_m: float = 0.03  # m
     spread: bool = True
+    up_side_weight: float = 0.3  # 1
+    down_side_min_new: int = 20  # points
     p_th: float = 0.5  # 1
     imu_floor_tolerance_m: float = 0.02  # m
     imu_angle_error_deg: float = 0.5  # deg
@@ -122,6 +137,7 @@ class ImprovedParams:
         check("line_angle_deg", self.line_angle_deg, lower=0.0, upper=90.0, unit="deg")
         check("break_distance_m", self.break_distance_m, lower=0.0, unit="m")
         check("extend_tolerance_m", self.extend_tolerance_m, lower=0.0, unit="m", closed=True)
+        check("up_side_weight", self.up_side_weight, lower=0.0, upper=1.0, closed=True)
         check("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
         check("imu_floor_tolerance_m", self.imu_floor_tolerance_m, lower=0.0, unit="m")
         check("imu_angle_error_deg", self.imu_angle_error_deg, lower=0.0, upper=90.0, closed=True)
@@ -136,9 +152,10 @@ class ImprovedParams:
             ("local_fit_beams", 1),
             ("min_points", 1),
             ("extend_beams", 0),
+            ("down_side_min_new", 1),
         ):
             _check_integer(name, getattr(self, name), lowest)
-        for name in ("ego_motion", "spread"):
+        for name in ("ego_motion", "hold_behind_lines", "spread"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name}: must be true or false, got {getattr(self, name)!r}")
 

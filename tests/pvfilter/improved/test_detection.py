@@ -1,5 +1,7 @@
-"""Detection: the tilted-plane gates, extension and spread claims, claim scores."""
+"""Detection: the tilted-plane gates, the down side, extension and spread claims, claim
+scores."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -10,6 +12,7 @@ from pvfilter.improved.detection import (
     extension_claims,
     geometry_gates,
     spread_claims,
+    up_side_weights,
 )
 
 from .conftest import HEIGHT_M
@@ -67,15 +70,32 @@ def test_extension_takes_the_points_on_the_line_up_to_the_corner():
     assert set(owners.tolist()) == {segments.labels[0]}
 
 
-def test_spread_claims_new_fragments_on_the_line_on_its_side_only():
+def test_spread_claims_fragments_on_the_line_on_its_side_only():
     main = line(2.0, -0.5, 2.0, 0.5)
     fragment = line(2.0, 1.0, 2.0, 1.1, 3)  # between furniture legs
     behind = line(-2.0, 1.0, -2.0, 1.1, 3)  # the mirror image behind: not on the line
-    segments = segments_of(main, fragment, behind)
-    new = np.ones(46, dtype=bool)
-    points, _ = spread_claims(segments, np.array([segments.labels[0]]), new, PARAMS)
+    off = line(2.2, 1.3, 2.2, 1.4, 3)  # 0.2 m behind the line: structure
+    segments = segments_of(main, fragment, behind, off)
+    points, _ = spread_claims(segments, np.array([segments.labels[0]]), PARAMS)
     assert set(range(40, 43)) <= set(points.tolist())
-    assert not set(range(43, 46)) & set(points.tolist())
+    assert not set(range(43, 49)) & set(points.tolist())
+
+
+def test_lines_on_the_far_side_of_the_strongest_line_are_weighted_down():
+    floor = line(2.0, -1.0, 2.0, 1.0)  # the strongest line: the down side is +x
+    behind = line(-1.5, -0.3, -1.5, 0.3, 12)  # furniture met higher up, behind
+    aside = line(3.0, 1.5, 3.0, 1.9, 12)  # another line on the down side
+    segments = segments_of(floor, behind, aside)
+    new_counts = segments.sizes.astype(float)
+    gates = np.ones(len(segments), dtype=bool)
+    weights = up_side_weights(segments, new_counts, gates, PARAMS)
+    at = lambda point: segments.labels[point]  # noqa: E731
+    assert weights[at(0)] == 1.0 and weights[at(52)] == 1.0
+    assert weights[at(40)] == PARAMS.up_side_weight
+    # too few new points on the strongest line: no side is known, nothing is weighted
+    assert (up_side_weights(segments, np.minimum(new_counts, 5.0), gates, PARAMS) == 1.0).all()
+    no_side = dataclasses.replace(PARAMS, up_side_weight=1.0)
+    assert (up_side_weights(segments, new_counts, gates, no_side) == 1.0).all()
 
 
 def test_the_best_claim_wins():
@@ -84,5 +104,5 @@ def test_the_best_claim_wins():
     segments = segments_of(floor, tail)
     score = np.zeros(len(segments))
     score[segments.labels[0]] = 0.8
-    owner, best = best_claims(segments, score, np.zeros(44, bool), PARAMS)
+    owner, best = best_claims(segments, score, PARAMS)
     assert (owner == segments.labels[0]).all() and (best == 0.8).all()

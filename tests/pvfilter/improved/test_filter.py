@@ -72,6 +72,24 @@ def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
         assert on_floor.shape == result.removed.shape
 
 
+def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
+    # the robot leans for 1.6 s, 2.7 m from the wall ahead: the floor line ramps in over 3
+    # frames and then stays 2.4 m ahead, only 0.3 m in front of the wall
+    def lean(k):
+        return math.radians(6.0) * min(max(k - 9, 0), 3) / 3 if k < 28 else 0.0
+
+    def frames():
+        for k in range(34):
+            yield room_scan((1.3, 0.0, 0.0), lean(k), stamp=0.1 * k, seed=k), lean(k)
+
+    for hold, kept_throughout in ((True, True), (False, False)):
+        params = ImprovedParams(lidar_height_m=HEIGHT_M, hold_behind_lines=hold)
+        results, truth = run(ImprovedPitchVariationFilter(params), frames())
+        removed, positive = np.array([r.removed for r in results]), np.array(truth)
+        recall = [(removed[k] & positive[k]).sum() / positive[k].sum() for k in range(12, 28)]
+        assert (min(recall) >= 0.9) == kept_throughout, (hold, np.round(recall, 2))
+
+
 def test_the_imu_option_removes_the_predicted_floor():
     results, truth = run(ImprovedPitchVariationFilter(), drive(), imu=True)
     removed, positive = np.array([r.removed for r in results]), np.array(truth)

@@ -71,6 +71,16 @@ def test_the_view_comes_closer_at_most_at_the_shrink_rate():
     assert np.mean(np.abs(shrunk - step) < 1e-9) > 0.95  # all but where the line meets a wall
 
 
+def test_the_view_holds_behind_a_possible_floor_line():
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    memory, layout = remembered(level), BeamLayout.of(level)
+    view = memory.view(layout, 12.0, Motion(), PARAMS)
+    memory.update(ranges_of(pitched), np.isposinf(pitched.ranges), view, 0.1, PARAMS, on_floor)
+    np.testing.assert_array_equal(memory.state.ranges[on_floor], view.ranges[on_floor])
+    assert (memory.state.ahead_s[on_floor] == 0.1).all()  # it still settles after an event
+
+
 def test_a_return_in_front_for_longer_than_an_event_replaces_the_view():
     params = ImprovedParams(max_event_s=0.3)
     level, _ = room_scan(noise_m=0.0)
