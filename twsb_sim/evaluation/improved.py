@@ -45,6 +45,10 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "level-view memory: compare with the previous scan only",
         lambda p: _set(p, memory_shrink_mps=float("inf")),
     ),
+    "no_hold": (
+        "holding the view behind possible floor lines (it shrinks there too)",
+        lambda p: _set(p, hold_behind_lines=False),
+    ),
     "no_line_split": (
         "segmentation by line direction: segments split at range jumps only",
         lambda p: _set(p, line_angle_deg=90.0),
@@ -52,6 +56,10 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
     "no_geometry_gates": (
         "tilted-plane gates (distance, implied roll)",
         lambda p: _set(p, max_roll_deg=90.0, max_tilt_deg=90.0),
+    ),
+    "no_down_side": (
+        "the down side (lines beyond the strongest line keep their score)",
+        lambda p: _set(p, up_side_weight=1.0),
     ),
     "no_extension": ("line extension at the ends", lambda p: _set(p, extend_beams=0)),
     "no_spread": ("spreading a line over its fragments", lambda p: _set(p, spread=False)),

@@ -63,6 +63,7 @@ SPACE: tuple[Dimension, ...] = (
     Dimension("break_distance_m", 0.1, 0.5),
     Dimension("min_points", 3, 12, integer=True),
     Dimension("extend_tolerance_m", 0.02, 0.15),
+    Dimension("up_side_weight", 0.0, 1.0),
     Dimension("association_m", 0.1, 0.5),
 )
 
