@@ -81,5 +81,6 @@ def main() -> None:
         print(f"{name:28s}{rtf:7.1f}x real time  = {rtf / bare_rtf:.2f} of bare")
     print(f"(best of {args.repeats}, {args.seconds:g} simulated s each)")
 
+
 if __name__ == "__main__":
     main()
