@@ -11,13 +11,13 @@ So the memory keeps, per beam, the range of the level view in the current sensor
 
 - each scan, it is moved by the ego-motion (points transformed, then binned back into
   beams; the nearest point wins a beam; one-beam holes take a neighbour's view);
-- a beam's return replaces it when farther, and otherwise pulls it closer by at most
-  ``memory_shrink_mps`` times the time step: a line that jumps in front of the level view
-  (a floor line sweeps in at metres per second) stays "new" for many frames, while a
-  person walking in or an ego-motion error is absorbed within a few;
 - behind a segment that may be a floor line (``hold_behind_lines``) the view does not
-  come closer at all: a floor line that creeps in slowly, as the robot leans into an
-  acceleration, stays new until the event ends;
+  come closer at all: the line stays "new" until the event ends, even one that creeps in
+  slowly as the robot leans into an acceleration;
+- elsewhere a beam's return replaces the view when farther, and otherwise pulls it closer
+  by at most ``memory_shrink_mps`` times the time step: a person walking in or an
+  ego-motion error is absorbed within a frame or two, while a line that jumps in front of
+  the view faster than that is new in its first frame, and held from then on;
 - beams with no return within range (``+inf``) remember free space up to ``range_max``;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch

@@ -39,8 +39,10 @@ class ImprovedParams:
         memory_window_beams: the level view of a beam is the nearest of this many beams
             on each side, beams: absorbs sub-beam misalignment after ego-motion.
         memory_shrink_mps: how fast the remembered level view may come closer once
-            ego-motion is compensated, m/s: moving people and the motion estimate's error.
-            A floor line sweeps in much faster (metres per second at small tilts).
+            ego-motion is compensated, m/s. Behind possible floor lines the view holds
+            (``hold_behind_lines``), so elsewhere this only has to absorb moving things and
+            the motion estimate's error: a fast rate keeps the false alarms of a wrong
+            view short. A floor line that sweeps in faster than this stays new anyway.
         max_event_s: the longest a pitch event lasts (the balance controller levels the
             robot), s: a return in front of the level view for longer is structure, and
             the view takes it.
@@ -94,7 +96,7 @@ class ImprovedParams:
     free_margin_m: float = 0.08  # m
     free_margin_rel: float = 0.015  # 1
     memory_window_beams: int = 1  # beams
-    memory_shrink_mps: float = 0.75  # m/s
+    memory_shrink_mps: float = 3.0  # m/s
     max_event_s: float = 2.0  # s
     memory_timeout_s: float = 1.5  # s
     hold_behind_lines: bool = True
