@@ -42,7 +42,7 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         lambda p: _set(p, ego_motion=False),
     ),
     "previous_scan_only": (
-        "level-view memory: compare with the previous scan only",
+        "level-view memory: the view follows every return at once, except where it holds",
         lambda p: _set(p, memory_shrink_mps=float("inf")),
     ),
     "no_hold": (
