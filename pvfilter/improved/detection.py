@@ -168,7 +168,8 @@ def detect_lines(
     new_valid = new.take(segments.beams)
     # most scans have no new point at all: their shares are 0, and nothing is fitted
     any_new = bool(new_valid.any())
-    share_new = np.bincount(labels, new_valid, k) / sizes if any_new else np.zeros(k)
+    new_counts = np.bincount(labels, new_valid, k) if any_new else np.zeros(k)
+    share_new = new_counts / sizes
     # lines are fitted only when a big enough segment across the direction of travel has
     # new points (half the scans have none)
     fitted = any_new and bool(
@@ -182,7 +183,7 @@ def detect_lines(
         gates = np.zeros(k, dtype=bool)
     score = np.where(gates, share_new, 0.0)
     if fitted:
-        score *= up_side_weights(segments, share_new * segments.sizes, gates, params)
+        score *= up_side_weights(segments, new_counts, gates, params)
     if score.any():
         owner, best = best_claims(segments, score, params)
     else:  # nothing new (most scans): every point stays in its segment, unclaimed
