@@ -32,10 +32,10 @@ from pvfilter import (
     cluster_scan,
     detect_clusters,
 )
-from pvfilter.params_file import filter_for
-from pvfilter.pipeline import remove_queued
+from pvfilter.paper.filter import remove_queued
+from pvfilter.paper.threaded import ThreadedPitchVariationFilter
+from pvfilter.registry import filter_for
 from pvfilter.synthetic import room_sequence
-from pvfilter.threaded import ThreadedPitchVariationFilter
 
 SEQUENCE_LENGTH = 200  # scans, cycled; ten pitch events
 

@@ -27,10 +27,10 @@ from pathlib import Path
 import rerun as rr
 
 from pvfilter import PitchVariationFilter
-from twsb_sim.cli import resolve_scenario
 from twsb_sim.rerun_log import APPLICATION_ID, RerunLogger
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import load_scenario
+from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.sinks import NullSink
 
 

@@ -56,13 +56,13 @@ def filter_runs(batch: list) -> dict:
     def datmo(scans):
         f = DatmoLikeFilter()
         return [
-            f.process(scan, pose_sensor_in_world=(sensor_x(k), 0.0, 0.0))
+            f.process(scan, pose_sensor_in_odom=(sensor_x(k), 0.0, 0.0)).removed
             for k, scan in enumerate(scans)
         ]
 
     def imu_gate(scans):
         f = ImuHeightGate()
-        return [f.process(scan, pitch_rad=0.0, roll_rad=0.0) for scan in scans]
+        return [f.process(scan, pitch_rad=0.0, roll_rad=0.0).removed for scan in scans]
 
     return {
         "PitchVariationFilter": pvf,

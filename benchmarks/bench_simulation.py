@@ -22,9 +22,9 @@ import time
 import mujoco
 
 from pvfilter import PitchVariationFilter
-from twsb_sim.cli import resolve_scenario
 from twsb_sim.runner import run_scenario, simulation_for
 from twsb_sim.scenario import load_scenario
+from twsb_sim.scenario_files import resolve_scenario
 
 
 def bare_step_rate(seconds: float) -> float:

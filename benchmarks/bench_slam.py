@@ -24,7 +24,7 @@ import numpy as np
 
 from pvfilter import PitchVariationFilter
 from scaneval.slam import HectorSlam, score_trajectory
-from twsb_sim.evaluation.methods import sensor_pose_2d
+from twsb_sim.robot_inputs import sensor_pose_2d
 from twsb_sim.slam.recording import record_frames
 from twsb_sim.slam.sequences import shipped_sequence
 from twsb_sim.slam.systems import available_systems, make_system

@@ -1,121 +1,150 @@
-"""``pvfilter IN.npz OUT.npz``: run the filter over a scan file (layout in pvfilter.io).
+"""``pvfilter IN.npz OUT.npz``: run any registered filter over a scan file.
 
-The paper's filter by default (its Table I symbols as options); ``--improved`` runs the
-improved filter, and ``--params FILE`` either filter with the parameters of a parameter
-file (``twsb tune`` writes them; see :mod:`pvfilter.params_file`).
+The scan file's layout is documented in :mod:`pvfilter.io`. ``--filter NAME`` picks the
+filter (``--list`` shows them), ``--params FILE`` reads a parameter file, ``--set
+NAME=VALUE`` and the paper's symbol flags set single parameters. Robot inputs the file
+carries (``pitch_rad``, ``roll_rad``, ``pose_sensor_in_odom``) are passed to the filter,
+and ground-truth ``labels`` give precision and recall. Exit status: 0 done, 2 a user
+mistake (a bad option or file, one line naming it), 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
-from pvfilter.improved import ImprovedParams
+import numpy as np
+
+from pvfilter.cli_options import SYMBOLS, chosen_filter, robot_geometry, robot_inputs
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
-from pvfilter.params import CLUSTERING_MODES, FilterParams
-from pvfilter.params_file import filter_for, load_params
-from pvfilter.threaded import ThreadedPitchVariationFilter
+from pvfilter.paper import CLUSTERING_MODES, ThreadedPitchVariationFilter
+from pvfilter.registry import filter_entry, filter_names
 
-# the numeric fields are the paper's symbols; the others are mode switches
-SYMBOLS = [f for f in dataclasses.fields(FilterParams) if type(f.default) in (int, float)]
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+PITCH_VARIATION_LABELS = (2, 3, 4)  # FLOOR, CEILING, HORIZONTAL (beam label codes)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The command's arguments: files, every FilterParams symbol, the modes."""
+    """The command's arguments: files, the filter, its parameters, the modes."""
     parser = argparse.ArgumentParser(
         prog="pvfilter",
-        description="Remove pitch-variation points (floor and ceiling clusters) from the "
-        "2D LiDAR scans of an .npz file and write the filtered scans, masks and scores.",
+        description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR "
+        "scans of an .npz scan file and write the filtered scans, masks and scores.",
     )
-    parser.add_argument("input", help="scan file (.npz: ranges, stamps, LaserScan fields)")
-    parser.add_argument("output", help="where to write the filtered scan file (.npz)")
+    parser.add_argument("input", nargs="?", help="scan file (.npz: ranges, stamps, LaserScan)")
+    parser.add_argument("output", nargs="?", help="the filtered scan file to write (.npz)")
+    parser.add_argument("--list", action="store_true", help="list the registered filters and exit")
+    parser.add_argument("--filter", metavar="NAME", help="the filter to run (default: paper)")
+    parser.add_argument("--improved", action="store_true", help="short for --filter improved")
+    parser.add_argument("--params", metavar="FILE", help="a parameter file (names its filter)")
+    parser.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
+    )
     for field in SYMBOLS:
         parser.add_argument(
             f"--{field.name.replace('_', '-')}",
             dest=field.name,
             type=type(field.default),
-            help=f"{field.name} (Table I: {field.default})",
+            help=f"{field.name} (paper's Table I: {field.default})",
         )
-    parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="BFS neighbourhood")
-    parser.add_argument("--detection-only", action="store_true", help="turn tracking off")
-    parser.add_argument("--threaded", action="store_true", help="the paper's two-thread form")
+    parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="paper: BFS neighbourhood")
+    parser.add_argument("--detection-only", action="store_true", help="paper: no tracking")
+    parser.add_argument("--threaded", action="store_true", help="paper: the two-thread form")
     parser.add_argument(
-        "--improved", action="store_true", help="run the improved filter (ImprovedParams defaults)"
+        "--lidar-height", type=float, metavar="M", help="the scan plane's height above the floor, m"
     )
     parser.add_argument(
-        "--params",
-        metavar="FILE",
-        help="a parameter file (TOML or JSON, e.g. from twsb tune); it names its filter",
-    )
-    parser.add_argument(
-        "--lidar-height",
-        type=float,
-        metavar="M",
-        help="improved filter: the scan plane's height above the floor, m",
+        "--scans-only", action="store_true", help="ignore robot inputs the file carries"
     )
     return parser
 
 
-def choose_params(args: argparse.Namespace, paper: dict) -> FilterParams | ImprovedParams:
-    """The parameters the arguments ask for (raises ValueError naming the problem)."""
-    params = load_params(args.params) if args.params else None
-    improved = args.improved or isinstance(params, ImprovedParams)
-    if improved:
-        if paper or args.clustering or args.detection_only or args.threaded:
-            raise ValueError("the paper's options apply to the paper's filter, not --improved")
-        if args.params and not isinstance(params, ImprovedParams):
-            raise ValueError(f"{args.params}: holds the paper's parameters, not the improved")
-        params = params if params is not None else ImprovedParams()
-        if args.lidar_height is not None:
-            params = dataclasses.replace(params, lidar_height_m=args.lidar_height)
-        return params
-    if args.lidar_height is not None:
-        raise ValueError("--lidar-height: applies to the improved filter only")
-    if args.clustering:
-        paper["clustering"] = args.clustering
-    base = params if params is not None else FilterParams()
-    return dataclasses.replace(base, **paper, tracking=base.tracking and not args.detection_only)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command; returns the exit status (0 ok, 1 bad file, 2 bad arguments)."""
+    """Run the command; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    chosen = {f.name: getattr(args, f.name) for f in SYMBOLS if getattr(args, f.name) is not None}
+    if args.list:
+        for name in filter_names():
+            print(f"{name:12s} {filter_entry(name).summary}")
+        return 0
+    if args.input is None or args.output is None:
+        parser.error("the input and output files are required")
     try:
-        params = choose_params(args, chosen)
-    except OSError as error:
-        print(f"pvfilter: error: {error}", file=sys.stderr)
-        return 1
-    except ValueError as error:
-        parser.error(str(error))
-    try:
-        arrays = read_arrays(args.input)
-        scans = scans_from_arrays(arrays, source=args.input)
+        return _filter_file(args)
+    except KeyboardInterrupt:
+        print("pvfilter: interrupted; the output was not written", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except (OSError, ValueError) as error:
         print(f"pvfilter: error: {error}", file=sys.stderr)
-        return 1
+        return EXIT_USAGE
+
+
+def _filter_file(args: argparse.Namespace) -> int:
+    entry, params = chosen_filter(args)
+    geometry = robot_geometry(args, entry, params)
+    source, output = Path(args.input), Path(args.output)
+    _check_output(source, output)
+    arrays = read_arrays(source)
+    scans = scans_from_arrays(arrays, source=str(source))
+    inputs = [{}] * len(scans) if args.scans_only else robot_inputs(arrays, len(scans), str(source))
     start = time.perf_counter()
     if args.threaded:
         with ThreadedPitchVariationFilter(params) as pvf:
             results = list(pvf.process_stream(scans))
     else:
-        pvf = filter_for(params)
-        results = [pvf.process(scan) for scan in scans]
+        scan_filter = entry.make(params, robot_geometry=geometry)
+        results = [scan_filter.process(s, **i) for s, i in zip(scans, inputs, strict=True)]
     elapsed = time.perf_counter() - start
-    save_results(args.output, arrays, results)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    save_results(output, arrays, results)
     valid = sum(int(scan.valid_mask().sum()) for scan in scans)
     removed = sum(int(result.removed.sum()) for result in results)
     share = 100.0 * removed / valid if valid else 0.0
     rate = len(scans) / elapsed if elapsed > 0 else float("inf")
+    used = sorted(inputs[0]) if inputs and inputs[0] else []
     print(
-        f"pvfilter: {len(scans)} scans, removed {removed} of {valid} valid beams "
-        f"({share:.2f} %), {rate:.0f} scans/s; wrote {args.output}"
+        f"pvfilter: {entry.name} filter, {len(scans)} scans"
+        + (f" with {', '.join(used)}" if used else "")
+        + f", removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
+    if "labels" in arrays:
+        print(_label_score(arrays, results))
+    print(f"pvfilter: wrote {output}")
     return 0
+
+
+def _check_output(source: Path, output: Path) -> None:
+    """Refuse, before any work, an output that would overwrite the input or cannot be written."""
+    if output.exists() and source.exists() and output.resolve() == source.resolve():
+        raise ValueError(f"{output}: is the input file; write the output to another file")
+    if output.is_dir():
+        raise ValueError(f"{output}: is a folder; give the output file's name")
+    for parent in output.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise ValueError(f"{output}: {parent} is not a folder")
+            break
+
+
+def _label_score(arrays: dict[str, np.ndarray], results: list) -> str:
+    """Per-beam precision and recall against the file's ground-truth ``labels``."""
+    labels = np.asarray(arrays["labels"])
+    removed = np.array([r.removed for r in results], dtype=bool).reshape(labels.shape)
+    finite = np.isfinite(np.asarray(arrays["ranges"], dtype=np.float64))
+    positive = np.isin(labels, PITCH_VARIATION_LABELS) & finite
+    predicted = removed & finite
+    tp = int(np.count_nonzero(predicted & positive))
+    fp, fn = int(np.count_nonzero(predicted)) - tp, int(np.count_nonzero(positive)) - tp
+    precision = tp / (tp + fp) if tp + fp else float("nan")
+    recall = tp / (tp + fn) if tp + fn else float("nan")
+    return (
+        f"pvfilter: against the file's labels: precision {precision:.3f}, recall {recall:.3f} "
+        f"(TP {tp}, FP {fp}, FN {fn})"
+    )
 
 
 if __name__ == "__main__":

@@ -24,12 +24,16 @@ through, so the output is itself a valid input file.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import os
+import tempfile
+import zipfile
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
-from pvfilter.pipeline import FilterResult
+from pvfilter.result import FilterResult
 from pvfilter.scan import Scan
 
 REQUIRED_KEYS = ("ranges", "stamps", "angle_min", "angle_increment", "range_min", "range_max")
@@ -44,9 +48,28 @@ PER_SCAN_KEYS = (
 
 
 def read_arrays(path: str | Path) -> dict[str, np.ndarray]:
-    """All arrays of an ``.npz`` file (no pickled objects)."""
-    with np.load(path, allow_pickle=False) as data:
-        return {key: data[key] for key in data.files}
+    """All arrays of an ``.npz`` file (no pickled objects).
+
+    Raises:
+        OSError: the file cannot be opened.
+        ValueError: ``"<path>: ..."``: not an ``.npz`` archive (empty, truncated, another
+            kind of file), or an array of Python objects.
+    """
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if not isinstance(data, np.lib.npyio.NpzFile):
+                raise ValueError(f"{path}: a single .npy array, not an .npz scan file")
+            return {key: data[key] for key in data.files}
+    except (EOFError, zipfile.BadZipFile, UnicodeDecodeError):
+        message = "not an .npz scan file (empty, truncated or another format)"
+        raise ValueError(f"{path}: {message}") from None
+    except ValueError as error:
+        if str(error).startswith(str(path)):
+            raise
+        if "Object arrays" in str(error):
+            message = "holds arrays of Python objects; scan files hold numbers"
+            raise ValueError(f"{path}: {message}") from None
+        raise ValueError(f"{path}: not an .npz scan file ({error.__class__.__name__})") from None
 
 
 def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> list[Scan]:
@@ -119,8 +142,11 @@ def save_results(
     """Write a filtered scan file: the input ``arrays`` with filtered ``ranges``, plus
     ``removed`` and ``scores``.
 
+    The file is written under a temporary name beside ``path`` and renamed into place, so
+    an interrupted write never leaves a truncated file, nor touches an existing one.
+
     Args:
-        path: the output ``.npz``.
+        path: the output file, written under exactly this name.
         arrays: the input file's arrays.
         results: one result per scan, in order.
     """
@@ -129,7 +155,21 @@ def save_results(
     output["ranges"] = _stack([r.scan.ranges for r in results], beams, np.float64)
     output["removed"] = _stack([r.removed for r in results], beams, bool)
     output["scores"] = _stack([r.scores for r in results], beams, np.float64)
-    np.savez_compressed(path, **output)
+    write_atomically(path, lambda file: np.savez_compressed(file, **output))
+
+
+def write_atomically(path: str | Path, write: Callable[[BinaryIO], object]) -> None:
+    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``."""
+    path = Path(path)
+    prefix = f".{path.name}."
+    handle, temporary = tempfile.mkstemp(prefix=prefix, suffix=".partial", dir=path.parent)
+    try:
+        with os.fdopen(handle, "wb") as file:
+            write(file)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
 
 
 def _per_scan(arrays: dict[str, np.ndarray], key: str, count: int, source: str) -> np.ndarray:

@@ -1,7 +1,8 @@
 """Parameter files: a filter's parameters in TOML (or JSON), e.g. from ``twsb tune``.
 
-A file names its filter and holds its parameters in a table of that name; anything else
-(``[tuning]``: how the values were found) is kept for people and ignored by the loader:
+A file names its filter (any registered name: :mod:`pvfilter.registry`) and holds its
+parameters in a table of that name; a ``[tuning]`` table (how the values were found) is
+kept for people and ignored by the loader. Nothing else may be in the file:
 
 .. code-block:: toml
 
@@ -16,8 +17,9 @@ A file names its filter and holds its parameters in a table of that name; anythi
     objective = "auc"
 
 Parameters left out keep their defaults. JSON files (``.json``) have the same structure.
-Mistakes raise ``ValueError("<file>: <key>: <what was expected>")``. numpy, scipy and the
-standard library only: no simulator is needed to read a file.
+Mistakes raise ``ValueError("<file>: <key>: <what was expected>")``: an empty file, a
+missing ``filter``, a table or key that does not belong to the named filter, a bad value.
+numpy, scipy and the standard library only: no simulator is needed to read a file.
 """
 
 from __future__ import annotations
@@ -30,45 +32,57 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from pvfilter.improved.filter import ImprovedPitchVariationFilter
-from pvfilter.improved.params import ImprovedParams
-from pvfilter.params import FilterParams
-from pvfilter.pipeline import PitchVariationFilter
+from pvfilter.registry import entry_for_params, filter_entry, filter_names
 
-FILTERS: dict[str, type] = {"paper": FilterParams, "improved": ImprovedParams}
-Params = FilterParams | ImprovedParams
-
-
-def filter_for(params: Params) -> PitchVariationFilter | ImprovedPitchVariationFilter:
-    """A new filter of the kind ``params`` are for."""
-    if isinstance(params, ImprovedParams):
-        return ImprovedPitchVariationFilter(params)
-    return PitchVariationFilter(params)
+NOTES_TABLE = "tuning"  # how the values were found: for people, not for the loader
 
 
 def read_params_file(path: str | Path) -> dict[str, Any]:
     """The file's tables as plain values (TOML, or JSON for a ``.json`` file)."""
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
     try:
-        if path.suffix.lower() == ".json":
-            return json.loads(text)
-        return tomllib.loads(text)
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file (a parameter file is TOML or JSON)") from None
+    try:
+        table = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
         raise ValueError(f"{path}: not a valid parameter file: {error}") from None
+    if not isinstance(table, dict):
+        raise ValueError(f"{path}: not a parameter file (expected a table at the top)")
+    return table
 
 
-def params_from_table(table: dict[str, Any], source: str = "<table>") -> Params:
+def params_from_table(table: dict[str, Any], source: str = "<table>") -> Any:
     """The parameters a file's tables describe (see the module docstring).
 
     Raises:
         ValueError: ``"<source>: <key>: ..."`` for an unknown filter, key or bad value.
     """
-    name = table.get("filter", "improved")
-    if name not in FILTERS:
-        raise ValueError(f"{source}: filter: must be one of {', '.join(FILTERS)}, got {name!r}")
-    kind = FILTERS[name]
+    known = ", ".join(filter_names())
+    if not table:
+        raise ValueError(f"{source}: empty: a parameter file names its filter (filter = ...)")
+    if "filter" not in table:
+        raise ValueError(f"{source}: filter: missing (the filter the parameters are for: {known})")
+    name = table["filter"]
+    try:
+        entry = filter_entry(name) if isinstance(name, str) else None
+    except ValueError:
+        entry = None
+    if entry is None:
+        raise ValueError(f"{source}: filter: must be one of {known}, got {name!r}")
+    for key in table:
+        if key not in ("filter", name, NOTES_TABLE):
+            raise ValueError(
+                f"{source}: {key}: does not belong in a parameter file for filter {name!r} "
+                f"(only a [{name}] table of parameters and a [{NOTES_TABLE}] table of notes)"
+            )
+    kind = entry.params_type
     values = table.get(name, {})
+    if kind is None:
+        if values:
+            raise ValueError(f"{source}: {name}: filter {name!r} takes no parameters")
+        return None
     if not isinstance(values, dict):
         raise ValueError(f"{source}: {name}: must be a table of parameters")
     fields = {f.name: f for f in dataclasses.fields(kind)}
@@ -88,7 +102,7 @@ def params_from_table(table: dict[str, Any], source: str = "<table>") -> Params:
         raise ValueError(f"{source}: {name}.{error}") from None
 
 
-def load_params(path: str | Path) -> Params:
+def load_params(path: str | Path) -> Any:
     """Read the parameters of a parameter file (TOML, or JSON for ``.json``).
 
     Raises:
@@ -98,9 +112,9 @@ def load_params(path: str | Path) -> Params:
     return params_from_table(read_params_file(path), source=str(path))
 
 
-def params_to_toml(params: Params, tuning: dict[str, Any] | None = None) -> str:
+def params_to_toml(params: Any, tuning: dict[str, Any] | None = None) -> str:
     """A parameter file's text for ``params`` (and a ``[tuning]`` table, if given)."""
-    name = next(n for n, kind in FILTERS.items() if isinstance(params, kind))
+    name = entry_for_params(params).name
     lines = [f'filter = "{name}"', "", f"[{name}]"]
     for field in dataclasses.fields(params):
         lines.append(f"{field.name} = {_toml_value(getattr(params, field.name))}")
@@ -110,11 +124,11 @@ def params_to_toml(params: Params, tuning: dict[str, Any] | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def save_params(path: str | Path, params: Params, tuning: dict[str, Any] | None = None) -> None:
+def save_params(path: str | Path, params: Any, tuning: dict[str, Any] | None = None) -> None:
     """Write a parameter file: TOML, or JSON when ``path`` ends in ``.json``."""
     path = Path(path)
     if path.suffix.lower() == ".json":
-        name = next(n for n, kind in FILTERS.items() if isinstance(params, kind))
+        name = entry_for_params(params).name
         table = {"filter": name, name: dataclasses.asdict(params)}
         if tuning:
             table["tuning"] = tuning

@@ -7,7 +7,13 @@ per-beam PR and AUC, ATE, TUM files) and :mod:`scaneval.baselines` (filters to c
 with: no filter, a DATMO-like tracker, an IMU height gate).
 """
 
-from scaneval.baselines import DatmoLikeFilter, ImuHeightGate, NoFilter
+from scaneval.baselines import (
+    DatmoLikeFilter,
+    DatmoParams,
+    ImuGateParams,
+    ImuHeightGate,
+    NoFilter,
+)
 from scaneval.geometry import compose, invert, scan_points, se2_matrix, transform_points
 from scaneval.matching import MATCHERS, MatchResult, hsm, icp, ndt
 from scaneval.metrics import (
@@ -26,6 +32,8 @@ __all__ = [
     "MATCHERS",
     "AteResult",
     "DatmoLikeFilter",
+    "DatmoParams",
+    "ImuGateParams",
     "ImuHeightGate",
     "MatchResult",
     "NoFilter",

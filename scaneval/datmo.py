@@ -20,32 +20,26 @@ pitch-variation clusters do, are tracked poorly for the same reason.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pvfilter.clustering import covers_full_turn, drop_small_clusters, scan_order_labels
+from pvfilter.checks import check_integer, check_number
+from pvfilter.contract import check_pose
+from pvfilter.paper.clustering import covers_full_turn, drop_small_clusters, scan_order_labels
+from pvfilter.result import FilterResult, without_removed
 from pvfilter.scan import Scan
 from scaneval.geometry import transform_points
 
-# constant-velocity model, state (x, y, vx, vy): the measurement is the position
-MEASUREMENT = np.hstack((np.eye(2), np.zeros((2, 2))))
 
+@dataclasses.dataclass(frozen=True)
+class DatmoParams:
+    """Parameters of :class:`DatmoLikeFilter`.
 
-def _check_positive(name: str, value: float, unit: str) -> float:
-    value = float(value)
-    if not value > 0.0:
-        raise ValueError(f"{name}: must be > 0 {unit}, got {value}")
-    return value
+    Invalid values raise ``ValueError("<field>: <what was expected>, got <value>")``.
 
-
-class DatmoLikeFilter:
-    """Remove clusters whose world-frame track moves faster than a speed threshold.
-
-    The tracking does not depend on the threshold: after :meth:`process`,
-    ``last_beam_speeds_mps`` holds the estimated speed of every beam's track, so a sweep
-    over thresholds can run the sequence once and compare that array with each value.
-
-    Args:
+    Attributes:
         speed_threshold_mps: clusters whose track's speed exceeds this are removed, m/s
             (the paper tried 0.1, 0.2 and 0.3).
         cluster_distance_m: consecutive valid points at most this far apart join one
@@ -61,37 +55,43 @@ class DatmoLikeFilter:
         max_missed_scans: a track survives this many scans without a cluster.
     """
 
-    def __init__(
-        self,
-        speed_threshold_mps: float = 0.1,
-        cluster_distance_m: float = 0.3,
-        min_cluster_size: int = 3,
-        max_cluster_size: int = 360,
-        gate_m: float = 0.5,
-        process_noise: float = 1.0,
-        measurement_noise_m: float = 0.05,
-        initial_speed_std_mps: float = 1.0,
-        max_missed_scans: int = 0,
-    ) -> None:
-        if not speed_threshold_mps >= 0.0:
-            raise ValueError(f"speed_threshold_mps: must be >= 0 m/s, got {speed_threshold_mps}")
-        self.speed_threshold_mps = float(speed_threshold_mps)
-        self.cluster_distance_m = _check_positive("cluster_distance_m", cluster_distance_m, "m")
-        self.gate_m = _check_positive("gate_m", gate_m, "m")
-        self.process_noise = _check_positive("process_noise", process_noise, "m^2/s^3")
-        self.measurement_noise_m = _check_positive("measurement_noise_m", measurement_noise_m, "m")
-        self.initial_speed_std_mps = _check_positive(
-            "initial_speed_std_mps", initial_speed_std_mps, "m/s"
-        )
-        if not 1 <= min_cluster_size <= max_cluster_size:
-            raise ValueError(
-                "min_cluster_size, max_cluster_size: need 1 <= min <= max, got "
-                f"{min_cluster_size}, {max_cluster_size}"
-            )
-        if max_missed_scans < 0:
-            raise ValueError(f"max_missed_scans: must be >= 0, got {max_missed_scans}")
-        self.min_cluster_size, self.max_cluster_size = int(min_cluster_size), int(max_cluster_size)
-        self.max_missed_scans = int(max_missed_scans)
+    speed_threshold_mps: float = 0.1  # m/s
+    cluster_distance_m: float = 0.3  # m
+    min_cluster_size: int = 3  # points
+    max_cluster_size: int = 360  # points
+    gate_m: float = 0.5  # m
+    process_noise: float = 1.0  # m^2/s^3
+    measurement_noise_m: float = 0.05  # m
+    initial_speed_std_mps: float = 1.0  # m/s
+    max_missed_scans: int = 0  # scans
+
+    def __post_init__(self) -> None:
+        check_number("speed_threshold_mps", self.speed_threshold_mps, lower=0.0, closed=True)
+        check_number("cluster_distance_m", self.cluster_distance_m, lower=0.0, unit="m")
+        check_number("gate_m", self.gate_m, lower=0.0, unit="m")
+        check_number("process_noise", self.process_noise, lower=0.0, unit="m^2/s^3")
+        check_number("measurement_noise_m", self.measurement_noise_m, lower=0.0, unit="m")
+        check_number("initial_speed_std_mps", self.initial_speed_std_mps, lower=0.0, unit="m/s")
+        check_integer("min_cluster_size", self.min_cluster_size, 1)
+        check_integer("max_cluster_size", self.max_cluster_size, self.min_cluster_size)
+        check_integer("max_missed_scans", self.max_missed_scans, 0)
+
+
+class DatmoLikeFilter:
+    """Remove clusters whose world-frame track moves faster than a speed threshold.
+
+    A :class:`pvfilter.ScanFilter` that needs the robot input ``pose_sensor_in_odom`` (the
+    paper gave DATMO SLAM poses; the evaluation gives it the sensor's true pose). The
+    tracking does not depend on the threshold, and the result's ``scores`` are the speed
+    of every beam's track (m/s, 0 where the beam has none), so a sweep over thresholds can
+    run the sequence once and compare the scores with each value.
+
+    Args:
+        params: the parameters; :class:`DatmoParams` defaults when omitted.
+    """
+
+    def __init__(self, params: DatmoParams | None = None) -> None:
+        self.params = params if params is not None else DatmoParams()
         self.reset()
 
     def reset(self) -> None:
@@ -101,46 +101,60 @@ class DatmoLikeFilter:
         self.missed = np.zeros(0, dtype=np.intp)
         self.ages = np.zeros(0, dtype=np.intp)  # measurements per track
         self.last_stamp: float | None = None
-        self.last_beam_speeds_mps = np.zeros(0)
 
     def speeds(self) -> np.ndarray:
         """Estimated speed of every track, m/s."""
         return np.hypot(self.states[:, 2], self.states[:, 3])
 
-    def process(self, scan: Scan, pose_sensor_in_world: ArrayLike, **context: object) -> np.ndarray:
-        """Track one scan's clusters and return the beams to remove.
+    def process(
+        self,
+        scan: Scan,
+        *,
+        pose_sensor_in_odom: ArrayLike | None = None,
+        pitch_rad: float | None = None,
+        roll_rad: float | None = None,
+    ) -> FilterResult:
+        """Track one scan's clusters and remove those of fast tracks.
 
         Args:
             scan: the scan; its ``stamp`` gives the time step. A stamp earlier than the
                 last one starts a new sequence.
-            pose_sensor_in_world: ``(x, y, theta)`` of the sensor in the world, m, m, rad.
-            **context: ignored, so every baseline can be called alike.
+            pose_sensor_in_odom: ``(x, y, theta)`` of the sensor in a fixed frame, m, m,
+                rad (required: the tracks live in that frame).
+            pitch_rad: ignored.
+            roll_rad: ignored.
 
         Returns:
-            Bool per beam, True where the beam belongs to a cluster whose track's speed
-            exceeds ``speed_threshold_mps``.
+            Removed: the beams of clusters whose track's speed exceeds
+            ``speed_threshold_mps``; scores: every beam's track speed, m/s.
+
+        Raises:
+            ValueError: no pose given.
         """
+        pose = check_pose(pose_sensor_in_odom)
+        if pose is None:
+            raise ValueError("pose_sensor_in_odom: the DATMO-like filter needs the sensor's pose")
+        params = self.params
         valid = np.flatnonzero(scan.valid_mask())
         points = scan.points()[valid]
         labels = drop_small_clusters(
-            scan_order_labels(points, self.cluster_distance_m, ring=covers_full_turn(scan)),
-            self.min_cluster_size,
+            scan_order_labels(points, params.cluster_distance_m, ring=covers_full_turn(scan)),
+            params.min_cluster_size,
         )
         member = labels >= 0
         sizes = np.bincount(labels[member])
         sums = [np.bincount(labels[member], points[member, axis]) for axis in (0, 1)]
-        centroids = transform_points(np.column_stack(sums) / sizes[:, None], pose_sensor_in_world)
-        tracked = sizes <= self.max_cluster_size
+        centroids = transform_points(np.column_stack(sums) / sizes[:, None], pose)
+        tracked = sizes <= params.max_cluster_size
 
         self._predict(scan.stamp)
         track_of = self._associate(centroids, tracked)
         cluster_speeds = self._update(centroids, track_of, tracked)
 
-        beam_speeds = np.full(len(scan), np.nan)
+        beam_speeds = np.zeros(len(scan))
         beam_speeds[valid[member]] = cluster_speeds[labels[member]]
-        self.last_beam_speeds_mps = beam_speeds
-        with np.errstate(invalid="ignore"):
-            return beam_speeds > self.speed_threshold_mps
+        removed = beam_speeds > params.speed_threshold_mps
+        return FilterResult(without_removed(scan, removed), removed, beam_speeds)
 
     def _predict(self, stamp: float) -> None:
         """Constant-velocity prediction of every track to ``stamp``."""
@@ -153,7 +167,7 @@ class DatmoLikeFilter:
             return
         transition = np.eye(4)
         transition[0, 2] = transition[1, 3] = dt
-        q = self.process_noise
+        q = self.params.process_noise
         block = q * np.array([[dt**3 / 3.0, dt**2 / 2.0], [dt**2 / 2.0, dt]])
         noise = np.zeros((4, 4))
         noise[np.ix_([0, 2], [0, 2])] = noise[np.ix_([1, 3], [1, 3])] = block
@@ -167,7 +181,7 @@ class DatmoLikeFilter:
             return track_of
         distance = np.linalg.norm(centroids[:, None, :] - self.states[None, :, :2], axis=2)
         distance[~tracked] = np.inf
-        clusters, tracks = np.nonzero(distance <= self.gate_m)
+        clusters, tracks = np.nonzero(distance <= self.params.gate_m)
         order = np.argsort(distance[clusters, tracks], kind="stable")
         track_taken = np.zeros(len(self.states), dtype=bool)
         for cluster, track in zip(clusters[order], tracks[order], strict=True):
@@ -184,7 +198,7 @@ class DatmoLikeFilter:
         if index.size:
             states, covariances = self.states[index], self.covariances[index]
             innovation = centroids[matched] - states[:, :2]
-            innovation_cov = covariances[:, :2, :2] + self.measurement_noise_m**2 * np.eye(2)
+            innovation_cov = covariances[:, :2, :2] + self.params.measurement_noise_m**2 * np.eye(2)
             gain = covariances[:, :, :2] @ np.linalg.inv(innovation_cov)  # (m, 4, 2)
             self.states[index] = states + np.einsum("mij,mj->mi", gain, innovation)
             self.covariances[index] = covariances - gain @ covariances[:, :2, :]
@@ -195,9 +209,10 @@ class DatmoLikeFilter:
         cluster_speeds = np.zeros(len(centroids))
         cluster_speeds[matched] = np.hypot(self.states[index, 2], self.states[index, 3])
 
-        keep = self.missed <= self.max_missed_scans
+        keep = self.missed <= self.params.max_missed_scans
         new = ~matched & tracked
-        initial = np.diag([self.measurement_noise_m**2] * 2 + [self.initial_speed_std_mps**2] * 2)
+        noise, speed_std = self.params.measurement_noise_m, self.params.initial_speed_std_mps
+        initial = np.diag([noise**2] * 2 + [speed_std**2] * 2)
         self.states = np.vstack(
             (self.states[keep], np.column_stack((centroids[new], np.zeros((new.sum(), 2)))))
         )

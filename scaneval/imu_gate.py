@@ -12,54 +12,75 @@ R_y(pitch) R_x(roll)``, the ZYX convention with yaw left out).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from pvfilter.checks import check_number
+from pvfilter.contract import check_attitude
+from pvfilter.result import FilterResult, without_removed
 from pvfilter.scan import Scan
+
+
+@dataclasses.dataclass(frozen=True)
+class ImuGateParams:
+    """Parameters of :class:`ImuHeightGate`.
+
+    Invalid values raise ``ValueError("<field>: <what was expected>, got <value>")``.
+
+    Attributes:
+        lidar_height_m: height of the scanner's origin above the floor when level, m.
+        band_low_m: beams ending lower than this above the floor are removed, m.
+        band_high_m: beams ending higher than this above the floor are removed, m.
+        axle_height_m: the robot tilts about a point at this height (a TWSB's wheel axle),
+            so the scanner's origin sinks to ``axle + (lidar_height - axle) cos(pitch)
+            cos(roll)``; equal to ``lidar_height_m``, the origin stays where it is. The
+            default is the improved filter's (a small home robot's wheel radius).
+    """
+
+    lidar_height_m: float = 0.25  # m
+    band_low_m: float = 0.05  # m
+    band_high_m: float = 2.0  # m
+    axle_height_m: float = 0.08  # m
+
+    def __post_init__(self) -> None:
+        check_number("lidar_height_m", self.lidar_height_m, lower=0.0, unit="m", closed=True)
+        check_number("band_low_m", self.band_low_m, lower=-math.inf, unit="m")
+        check_number(
+            "band_high_m", self.band_high_m, lower=self.band_low_m, unit="m", below="band_low_m"
+        )
+        check_number("axle_height_m", self.axle_height_m, lower=0.0, unit="m", closed=True)
+        if self.axle_height_m > self.lidar_height_m:
+            raise ValueError(
+                f"axle_height_m: must be <= lidar_height_m ({self.lidar_height_m} m), "
+                f"got {self.axle_height_m}"
+            )
 
 
 class ImuHeightGate:
     """Remove beams that end below or above a band of heights above the floor.
 
+    A :class:`pvfilter.ScanFilter` that needs the robot inputs ``pitch_rad`` (and
+    ``roll_rad``). Its ``scores`` are how far outside the band each beam ends, m (0 inside
+    it): a beam is removed exactly when its score is above 0.
+
     Args:
-        lidar_height_m: height of the scanner's origin above the floor when level, m.
-        band_m: ``(low, high)``: beams ending lower than ``low`` or higher than ``high``
-            above the floor are removed, m. The default keeps 5 cm to 2 m.
-        axle_height_m: when given, the robot tilts about a point at this height (a TWSB's
-            wheel axle), so the scanner's origin sinks to
-            ``axle + (lidar_height - axle) cos(pitch) cos(roll)``; when ``None`` the
-            origin stays at ``lidar_height_m``.
+        params: the parameters; :class:`ImuGateParams` defaults when omitted.
     """
 
-    def __init__(
-        self,
-        lidar_height_m: float = 0.25,
-        band_m: tuple[float, float] = (0.05, 2.0),
-        axle_height_m: float | None = None,
-    ) -> None:
-        low, high = (float(b) for b in band_m)
-        if not low < high:
-            raise ValueError(f"band_m: need low < high, got {band_m}")
-        if not math.isfinite(lidar_height_m) or lidar_height_m < 0.0:
-            raise ValueError(
-                f"lidar_height_m: must be a finite height >= 0 m, got {lidar_height_m}"
-            )
-        if axle_height_m is not None and not 0.0 <= axle_height_m <= lidar_height_m:
-            raise ValueError(f"axle_height_m: must be in [0, lidar_height_m], got {axle_height_m}")
-        self.lidar_height_m = float(lidar_height_m)
-        self.band_m = (low, high)
-        self.axle_height_m = axle_height_m
+    def __init__(self, params: ImuGateParams | None = None) -> None:
+        self.params = params if params is not None else ImuGateParams()
 
     def reset(self) -> None:
-        """Nothing to forget: the gate keeps no state (present so every baseline reads alike)."""
+        """Nothing to forget: the gate keeps no state."""
 
     def sensor_height(self, pitch_rad: float, roll_rad: float) -> float:
         """Height of the scanner's origin above the floor, m."""
-        if self.axle_height_m is None:
-            return self.lidar_height_m
-        arm = self.lidar_height_m - self.axle_height_m
-        return self.axle_height_m + arm * math.cos(pitch_rad) * math.cos(roll_rad)
+        axle = self.params.axle_height_m
+        arm = self.params.lidar_height_m - axle
+        return axle + arm * math.cos(pitch_rad) * math.cos(roll_rad)
 
     def heights(self, scan: Scan, pitch_rad: float, roll_rad: float = 0.0) -> np.ndarray:
         """Height of every beam's end point above the floor, m (NaN for invalid beams)."""
@@ -71,20 +92,30 @@ class ImuHeightGate:
         )
 
     def process(
-        self, scan: Scan, pitch_rad: float, roll_rad: float = 0.0, **context: object
-    ) -> np.ndarray:
-        """The beams to remove.
+        self,
+        scan: Scan,
+        *,
+        pitch_rad: float | None = None,
+        roll_rad: float | None = None,
+        pose_sensor_in_odom: ArrayLike | None = None,
+    ) -> FilterResult:
+        """Remove the beams that end outside the band.
 
         Args:
             scan: the scan.
-            pitch_rad: measured pitch, rad, positive nose down.
-            roll_rad: measured roll, rad, positive left side up.
-            **context: ignored, so every baseline can be called alike.
+            pitch_rad: measured pitch, rad, positive nose down (required).
+            roll_rad: measured roll, rad, positive left side up (0 when not given).
+            pose_sensor_in_odom: ignored.
 
-        Returns:
-            Bool per beam, True where a valid beam ends outside the band.
+        Raises:
+            ValueError: no pitch given.
         """
-        height = self.heights(scan, pitch_rad, roll_rad)
-        low, high = self.band_m
-        with np.errstate(invalid="ignore"):
-            return (height < low) | (height > high)
+        attitude = check_attitude(pitch_rad, roll_rad)
+        if attitude is None:
+            raise ValueError("pitch_rad: the IMU height gate needs the robot's attitude")
+        height = self.heights(scan, *attitude)
+        below = self.params.band_low_m - height
+        above = height - self.params.band_high_m
+        scores = np.nan_to_num(np.fmax(np.fmax(below, above), 0.0), nan=0.0)
+        removed = scores > 0.0
+        return FilterResult(without_removed(scan, removed), removed, scores)

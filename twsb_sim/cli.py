@@ -16,25 +16,14 @@ from pathlib import Path
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
+from twsb_sim.filter_args import add_filter_args, filter_from_args, operating_threshold
 from twsb_sim.rerun_log.recording import add_recording_args
+from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.slam.cli import add_slam_parser
 from twsb_sim.tuning.cli import add_tune_parser
 
-SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
 EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
-
-
-def resolve_scenario(name_or_path: str) -> Path:
-    """A scenario file path, or the name of a shipped scenario (``hard_stop``)."""
-    path = Path(name_or_path)
-    if path.is_file():
-        return path
-    shipped = SCENARIOS_DIR / f"{name_or_path.removesuffix('.toml')}.toml"
-    if shipped.is_file():
-        return shipped
-    known = ", ".join(sorted(p.stem for p in SCENARIOS_DIR.glob("*.toml")))
-    raise ConfigError(name_or_path, "", f"no such scenario file (shipped scenarios: {known})")
 
 
 def _add_run_parser(commands: argparse._SubParsersAction) -> None:
@@ -51,7 +40,7 @@ def _add_run_parser(commands: argparse._SubParsersAction) -> None:
     run.add_argument(
         "--out", type=Path, default=None, help="write frames.npz, summary.json, scenario.toml here"
     )
-    run.add_argument("--no-filter", action="store_true", help="do not run the filter in the loop")
+    add_filter_args(run, default="paper")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     add_recording_args(run)  # --rrd, --spawn and Rerun's own flags
     run.set_defaults(handler=_run)
@@ -70,13 +59,9 @@ def _run(args: argparse.Namespace) -> int:
     sinks = []
     if args.out is not None:
         sinks.append(FrameWriter(args.out, scenario_file=path))
-    scan_filter = None
-    if not args.no_filter:
-        from pvfilter import PitchVariationFilter
-
-        scan_filter = PitchVariationFilter()
-    p_th = scan_filter.params.p_th if scan_filter is not None else float("nan")
-    sinks.append(rerun_sink(args, p_th=p_th))  # a NullSink when no recording is asked for
+    scan_filter = filter_from_args(args, scenario)
+    # a NullSink when no recording is asked for
+    sinks.append(rerun_sink(args, p_th=operating_threshold(scan_filter)))
     summary = run_scenario(
         scenario, seed=args.seed, scan_filter=scan_filter, sinks=sinks, progress=not args.quiet
     )

@@ -52,14 +52,13 @@ def coerce_value(value: Any, tp: Any, source: str | Path, key: str) -> Any:
         options = typing.get_args(tp)
         if value is None and type(None) in options:
             return None
-        errors = []
         for option in options:
             if option is type(None):
                 continue
             try:
                 return coerce_value(value, option, source, key)
-            except ConfigError as error:
-                errors.append(error)
+            except ConfigError:
+                continue  # the next option may take it; if none does, one error names all
         expected = " or ".join(_type_name(o) for o in options if o is not type(None))
         raise ConfigError(source, key, f"expected {expected}, got {value!r}")
     if origin is tuple:

@@ -16,7 +16,9 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
+from pvfilter import ScanFilter
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.frame_filter import FrameFilter, as_frame_filter
 from twsb_sim.house import House, SpawnPose, make_house, random_house
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
@@ -64,7 +66,7 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
 def run_scenario(
     scenario: Scenario,
     seed: int | None = None,
-    scan_filter: Any | None = None,
+    scan_filter: ScanFilter | FrameFilter | None = None,
     sinks: Sequence[FrameSink] = (),
     progress: bool = False,
 ) -> RunSummary:
@@ -77,8 +79,8 @@ def run_scenario(
         scenario: what to run.
         seed: the run's seed (default: the scenario's); same scenario and seed give
             bitwise-identical frames.
-        scan_filter: an object with ``process(scan)`` returning a result with a boolean
-            ``removed`` mask (a :class:`pvfilter.PitchVariationFilter`), or None.
+        scan_filter: a :class:`pvfilter.ScanFilter` (run on the scans alone), a
+            :class:`twsb_sim.frame_filter.FrameFilter` (given its robot inputs), or None.
         sinks: consumers of the frames (see :mod:`twsb_sim.sinks`).
         progress: show a progress bar over simulated time.
 
@@ -89,7 +91,8 @@ def run_scenario(
     sim = simulation_for(scenario, seed)
     summary = RunSummary(scenario=scenario.name, seed=seed, house=sim.house.name)
     if scan_filter is not None:
-        summary.filter_name = type(scan_filter).__name__
+        scan_filter = as_frame_filter(scan_filter)
+        summary.filter_name = scan_filter.label
         scan_filter.reset()
     started = time.perf_counter()
     n_frames = math.floor(scenario.duration_s * scenario.lidar.rate_hz + 1e-9) + 1
@@ -114,7 +117,7 @@ def run_scenario(
 def _simulate(
     scenario: Scenario,
     sim: Simulation,
-    scan_filter: Any | None,
+    scan_filter: FrameFilter | None,
     sinks: Sequence[FrameSink],
     summary: RunSummary,
     bar: tqdm,
@@ -166,7 +169,7 @@ def _simulate(
                     sink.on_state(truth)
         if k % frame_every == 0:
             frame = sim.frame(frame_index, phase=phase_at(scenario.commands, k * dt))
-            result = scan_filter.process(frame.scan) if scan_filter is not None else None
+            result = scan_filter.process(frame) if scan_filter is not None else None
             summary.add_frame(frame, None if result is None else result.removed)
             for sink in sinks:
                 sink.on_frame(frame, result)

@@ -1,8 +1,8 @@
-"""The improved pitch-variation filter: a named option beside the paper's.
+"""The improved pitch-variation filter: a sibling of the paper's, registered as ``improved``.
 
-:class:`ImprovedPitchVariationFilter` has the paper filter's API and result type
-(``process(scan)``, ``reset()``, :class:`pvfilter.FilterResult`), and optionally takes
-the robot's pitch and roll from an IMU. Its parameters (:class:`ImprovedParams`) are
+:class:`ImprovedPitchVariationFilter` is a :class:`pvfilter.ScanFilter` (``process(scan)``,
+``reset()``; its result an :class:`ImprovedResult`), and optionally takes the robot's
+pitch and roll from an IMU. Its parameters (:class:`ImprovedParams`) are
 physical quantities; ``twsb tune`` fits them to a robot and writes a file that
 :func:`load_params` reads (no simulator needed).
 """
@@ -13,15 +13,18 @@ from pvfilter.improved.filter import ImprovedPitchVariationFilter
 from pvfilter.improved.memory import LevelMemory, LevelView, free_space_gaps, new_points
 from pvfilter.improved.motion import Motion, estimate_motion
 from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.result import ImprovedResult, LineRecord
 from pvfilter.improved.segmentation import Segments, segment_scan
 
 __all__ = [
     "BeamLayout",
     "ImprovedParams",
     "ImprovedPitchVariationFilter",
+    "ImprovedResult",
     "LevelMemory",
     "LevelView",
     "LineDetection",
+    "LineRecord",
     "Motion",
     "Segments",
     "detect_lines",

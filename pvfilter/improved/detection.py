@@ -30,12 +30,9 @@ The state the filter carries between scans does not depend on ``p_th``, and each
 claim score (:func:`best_claims`) says at which thresholds it is removed, so one pass over
 a sequence gives the exact result of every threshold of a precision-recall sweep.
 
-The result is a :class:`pvfilter.Detection`, so the paper's result types apply unchanged;
-its per-cluster fields read as follows for this filter: ``v_c`` is eq. 1 of the cluster
-(for information), ``p_theta`` is 1 where the segment has new points and passes the
-geometry gates and 0 elsewhere (lines are fitted only when something is new),
-``p_likelihood`` the share of the cluster's points the level view explains (1 - the share
-of new points), ``p_pv`` the score.
+The result is a :class:`LineDetection`: per cluster, whether it passes the geometry gates,
+the share of its points that are new, its score and the decision; per beam, the evidence
+and the claim scores.
 """
 
 from __future__ import annotations
@@ -45,8 +42,7 @@ import math
 
 import numpy as np
 
-from pvfilter.clustering import ClusterSet
-from pvfilter.detection import Detection, perpendicular_variance_ratio
+from pvfilter.clusters import ClusterSet
 from pvfilter.improved.claims import best_claims, extension_claims, spread_claims
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
@@ -67,10 +63,23 @@ CANDIDATE_SHARE = 0.25  # 1: segments this new or more sit out the next ego-moti
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class LineDetection(Detection):
-    """A :class:`pvfilter.Detection` with what the improved filter adds.
+class LineDetection:
+    """What the improved filter decided for one scan, per cluster and per beam.
+
+    The clusters are the segments that survive (detected, or at least ``min_points``
+    points after extension), plus, with the IMU, the points on its predicted floor.
 
     Attributes:
+        clusters: the clusters.
+        passes_gates: per cluster, its segment passes the geometry gates of a floor line
+            (False where nothing in the scan was new: lines are then not fitted, and for
+            the IMU's cluster).
+        share_new: per cluster, the share of its points that are new (in space the level
+            view saw as free).
+        scores: per cluster, its segment's score: the share of new points where it passes
+            the gates (weighted on the up side), else 0; 1 for the IMU's cluster.
+        detected: per cluster, ``score > p_th``.
+        new_sequence: this scan starts a sequence (no level view yet).
         new_points: bool per beam: in space the level view saw as free.
         floor_points: bool per beam: on the IMU's floor (all False without the IMU).
         candidates: bool per beam: in a segment that passes the geometry gates with a
@@ -87,14 +96,20 @@ class LineDetection(Detection):
             exactly when this exceeds ``p_th``.
     """
 
-    new_points: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
-    floor_points: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
-    candidates: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, bool))
-    line_distances: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
-    implied_tilt_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
-    implied_roll_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
-    motion: Motion = dataclasses.field(default_factory=Motion)
-    claim_scores: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    clusters: ClusterSet
+    passes_gates: np.ndarray
+    share_new: np.ndarray
+    scores: np.ndarray
+    detected: np.ndarray
+    new_sequence: bool
+    new_points: np.ndarray
+    floor_points: np.ndarray
+    candidates: np.ndarray
+    line_distances: np.ndarray
+    implied_tilt_rad: np.ndarray
+    implied_roll_rad: np.ndarray
+    motion: Motion
+    claim_scores: np.ndarray
 
 
 def geometry_gates(segments: Segments, roll: np.ndarray, params: ImprovedParams) -> np.ndarray:
@@ -223,10 +238,9 @@ def detect_lines(
         implied_roll = np.full(count, np.nan)
     return LineDetection(
         clusters=clusters,
-        v_c=perpendicular_variance_ratio(clusters.variances),
-        p_theta=gates[kept].astype(float),
-        p_likelihood=1.0 - in_cluster[kept],
-        p_pv=score[kept],
+        passes_gates=gates[kept],
+        share_new=in_cluster[kept],
+        scores=score[kept],
         detected=detected[kept],
         new_sequence=new_sequence,
         new_points=new,
@@ -248,7 +262,7 @@ def _cluster_set(
     ids: np.ndarray,
     sizes: np.ndarray,
 ) -> ClusterSet:
-    """The clusters as :class:`pvfilter.ClusterSet` (no KD-tree: this filter needs none).
+    """The clusters as a :class:`pvfilter.ClusterSet`.
 
     ``ids``: cluster per valid point, -1 for none; ``sizes``: points per cluster.
     Points in no cluster are summed into an extra bin ``count`` and dropped, instead of
@@ -263,4 +277,4 @@ def _cluster_set(
         mean = np.divide(total, sizes, out=centroids[:, axis])
         square = np.bincount(bins, np.square(values), count + 1)[:count] / sizes
         np.maximum(np.subtract(square, np.square(mean), out=square), 0.0, out=variances[:, axis])
-    return ClusterSet(scan, points, beam_labels, sizes, centroids, variances, None)
+    return ClusterSet(scan, points, beam_labels, sizes, centroids, variances)

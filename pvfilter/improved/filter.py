@@ -1,7 +1,7 @@
 """The improved filter: segment -> ego-motion -> level view -> detect -> remove.
 
-Same API and result type as :class:`pvfilter.PitchVariationFilter` (``process(scan)``,
-``reset()``, a :class:`pvfilter.FilterResult`), built on the physics of a tilted scan
+A :class:`pvfilter.ScanFilter` like the paper's filter (``process(scan)``, ``reset()``; its
+result an :class:`~pvfilter.improved.ImprovedResult`), built on the physics of a tilted scan
 plane instead of the paper's per-scan heuristics. ``process`` also takes the robot's
 pitch and roll where an IMU gives them (optional).
 
@@ -16,31 +16,19 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from pvfilter.contract import check_attitude
 from pvfilter.improved.beams import BeamLayout, indices
-from pvfilter.improved.detection import LineDetection, detect_lines
-from pvfilter.improved.imu import check_attitude, floor_points
+from pvfilter.improved.detection import detect_lines
+from pvfilter.improved.imu import floor_points
 from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
 from pvfilter.improved.motion import Motion, estimate_motion
 from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.segmentation import segment_scan
-from pvfilter.pipeline import FilterResult, stamp_went_back
 from pvfilter.scan import Scan
-
-
-def removal(detection: LineDetection) -> FilterResult:
-    """The filter's result: the beams of every detected cluster become NaN.
-
-    As the paper's removal, except that the per-beam scores are the claim scores: a beam's
-    score exceeds ``p_th`` exactly when it is removed, whatever ``p_th``.
-    """
-    labels = detection.clusters.labels
-    removed = np.concatenate((detection.detected, [False]))[labels]  # label -1: the appended False
-    scan = detection.clusters.scan
-    # most scans lose no beam: a scan is immutable, so it is its own filtered copy
-    filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges)) if removed.any() else scan
-    tracked = np.zeros(len(detection.clusters), dtype=bool)  # no tracking module
-    return FilterResult(filtered, removed, detection.claim_scores, detection, tracked)
+from pvfilter.stamps import stamp_went_back
 
 
 class ImprovedPitchVariationFilter:
@@ -65,14 +53,20 @@ class ImprovedPitchVariationFilter:
         self._previous_stamp = None
 
     def process(
-        self, scan: Scan, pitch_rad: float | None = None, roll_rad: float | None = None
-    ) -> FilterResult:
+        self,
+        scan: Scan,
+        *,
+        pitch_rad: float | None = None,
+        roll_rad: float | None = None,
+        pose_sensor_in_odom: ArrayLike | None = None,
+    ) -> ImprovedResult:
         """Filter one scan; call once per scan, in time order.
 
         Args:
             scan: the scan at time t.
             pitch_rad: the robot's pitch from an IMU, rad, positive nose down (optional).
             roll_rad: its roll, rad, positive left side up (optional, 0 with a pitch).
+            pose_sensor_in_odom: ignored for now (the ego-motion comes from the scans).
 
         Returns:
             The filtered scan, the removed-beam mask, per-beam scores, per-cluster records.
@@ -113,9 +107,11 @@ class ImprovedPitchVariationFilter:
         # remember: the level view, and the points the next ego-motion fit may use
         hold = detection.candidates if params.hold_behind_lines else None
         self._memory.update(ranges, scan.ranges == np.inf, view, dt, params, hold)
+        # the next ego-motion fit leaves out what may move; a copy, since the detection's
+        # clusters hold ``points``
         moving = new | detection.floor_points | detection.candidates
-        points[moving] = np.nan
-        self._previous_points, self._motion = points, motion
+        self._previous_points = np.where(moving[:, None], np.nan, points)
+        self._motion = motion
         # remove: the beams of every detected segment become NaN
         return removal(detection)
 

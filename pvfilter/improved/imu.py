@@ -11,7 +11,6 @@ low: only hits on the floor itself.
 from __future__ import annotations
 
 import math
-import numbers
 
 import numpy as np
 
@@ -55,21 +54,3 @@ def floor_points(
     ranges = np.hypot(points[:, 0], points[:, 1])
     slack = math.sin(math.radians(params.imu_angle_error_deg))
     return heights < params.imu_floor_tolerance_m + slack * ranges
-
-
-def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[float, float] | None:
-    """``(pitch, roll)`` as floats, or None when no pitch is given (roll defaults to 0).
-
-    Raises:
-        ValueError: a roll without a pitch, or a value that is not a finite number.
-    """
-    if pitch_rad is None:
-        if roll_rad is not None:
-            raise ValueError("roll_rad: given without pitch_rad")
-        return None
-    values = (pitch_rad, 0.0 if roll_rad is None else roll_rad)
-    for name, value in zip(("pitch_rad", "roll_rad"), values, strict=True):
-        real = isinstance(value, numbers.Real) and not isinstance(value, bool)
-        if not real or not math.isfinite(value):
-            raise ValueError(f"{name}: must be a finite number of radians, got {value!r}")
-    return float(values[0]), float(values[1])

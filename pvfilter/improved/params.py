@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from pvfilter.params import _check_number
+from pvfilter.checks import check_flag, check_integer, check_number
 
 
 @dataclasses.dataclass(frozen=True)
@@ -118,7 +118,7 @@ class ImprovedParams:
     axle_height_m: float = 0.08  # m
 
     def __post_init__(self) -> None:
-        check = _check_number
+        check = check_number
         check("lidar_height_m", self.lidar_height_m, lower=0.0, unit="m")
         check("max_tilt_deg", self.max_tilt_deg, lower=0.0, upper=90.0, unit="deg")
         check("max_roll_deg", self.max_roll_deg, lower=0.0, upper=90.0, unit="deg")
@@ -156,17 +156,11 @@ class ImprovedParams:
             ("extend_beams", 0),
             ("down_side_min_new", 1),
         ):
-            _check_integer(name, getattr(self, name), lowest)
+            check_integer(name, getattr(self, name), lowest)
         for name in ("ego_motion", "hold_behind_lines", "spread"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name}: must be true or false, got {getattr(self, name)!r}")
+            check_flag(name, getattr(self, name))
 
     @property
     def min_line_distance_m(self) -> float:
         """Nearest a floor line can be to the sensor, m: ``h / sin(max_tilt)``."""
         return self.lidar_height_m / math.sin(math.radians(self.max_tilt_deg))
-
-
-def _check_integer(name: str, value: object, lowest: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or value < lowest:
-        raise ValueError(f"{name}: must be an integer >= {lowest}, got {value!r}")

@@ -34,14 +34,12 @@ def test_options_set_the_parameters(scan_file, tmp_path):
 
 
 def test_invalid_parameter_exits_with_the_field_message(scan_file, tmp_path, capsys):
-    with pytest.raises(SystemExit) as exit_info:
-        main([str(scan_file), str(tmp_path / "out.npz"), "--d-th", "-1"])
-    assert exit_info.value.code == 2
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--d-th", "-1"]) == 2
     assert "d_th: must be > 0 m, got -1.0" in capsys.readouterr().err
 
 
 def test_unreadable_file_is_an_error_not_a_traceback(tmp_path, capsys):
     np.savez(tmp_path / "bad.npz", ranges=np.ones((2, 3)))
-    assert main([str(tmp_path / "bad.npz"), str(tmp_path / "out.npz")]) == 1
+    assert main([str(tmp_path / "bad.npz"), str(tmp_path / "out.npz")]) == 2
     assert "stamps: missing" in capsys.readouterr().err
-    assert main([str(tmp_path / "absent.npz"), str(tmp_path / "out.npz")]) == 1
+    assert main([str(tmp_path / "absent.npz"), str(tmp_path / "out.npz")]) == 2

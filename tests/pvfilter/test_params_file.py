@@ -12,7 +12,8 @@ from pvfilter import (
 )
 from pvfilter.cli import main
 from pvfilter.io import arrays_from_scans, load_scans
-from pvfilter.params_file import filter_for, params_from_table
+from pvfilter.params_file import params_from_table
+from pvfilter.registry import filter_for
 from pvfilter.synthetic import room_sequence
 
 
@@ -38,10 +39,15 @@ def test_a_file_may_hold_some_parameters_only(tmp_path):
 @pytest.mark.parametrize(
     ("table", "message"),
     [
-        ({"filter": "kalman"}, "filter: must be one of paper, improved"),
-        ({"improved": {"bogus": 1}}, r"improved.bogus: unknown parameter"),
-        ({"improved": {"p_th": 2.0}}, r"improved.p_th: must be <= 1"),
-        ({"improved": 3}, "improved: must be a table"),
+        ({"filter": "kalman"}, "filter: must be one of .*improved, .*paper"),
+        ({"filter": "improved", "improved": {"bogus": 1}}, r"improved.bogus: unknown parameter"),
+        ({"filter": "improved", "improved": {"p_th": 2.0}}, r"improved.p_th: must be <= 1"),
+        ({"filter": "improved", "improved": 3}, "improved: must be a table"),
+        ({}, "empty: a parameter file names its filter"),
+        ({"improved": {"p_th": 0.5}}, "filter: missing"),
+        ({"filter": "paper", "improved": {"p_th": 0.5}}, "improved: does not belong"),
+        ({"filter": "improved", "p_th": 0.5}, "p_th: does not belong"),
+        ({"filter": "improved", "name": "hard_stop", "commands": []}, "name: does not belong"),
     ],
 )
 def test_mistakes_name_the_file_and_the_key(table, message):
@@ -80,7 +86,10 @@ def test_pvfilter_params_runs_the_file_s_filter(scan_file, tmp_path, capsys):
     assert "removed" in capsys.readouterr().out
 
 
-def test_pvfilter_improved_rejects_the_paper_s_options(scan_file, tmp_path, capsys):
-    with pytest.raises(SystemExit):
-        main([str(scan_file), str(tmp_path / "o.npz"), "--improved", "--p-th", "0.5"])
-    assert "paper's options" in capsys.readouterr().err
+def test_pvfilter_improved_takes_p_th_and_rejects_the_paper_s_symbols(scan_file, tmp_path, capsys):
+    out = tmp_path / "o.npz"
+    assert main([str(scan_file), str(out), "--improved", "--p-th", "1.0"]) == 0
+    with np.load(out) as data:
+        assert not data["removed"].any()  # no score exceeds 1
+    assert main([str(scan_file), str(out), "--improved", "--d-th", "0.5"]) == 2
+    assert "--d-th: filter 'improved' has no parameter d_th" in capsys.readouterr().err

@@ -3,8 +3,9 @@ import math
 import numpy as np
 import pytest
 
+from pvfilter import FilterResult, ScanFilter, make_filter
 from pvfilter.scan import Scan
-from scaneval.baselines import DatmoLikeFilter, ImuHeightGate, NoFilter
+from scaneval.baselines import DatmoLikeFilter, DatmoParams, ImuGateParams, ImuHeightGate, NoFilter
 from scaneval.geometry import transform_points
 from scaneval.synthetic import box_segments, scan_from_pose
 
@@ -39,8 +40,28 @@ def wall_beams(scan, sensor_pose=(0.0, 0.0, 0.0)):
 
 def test_no_filter_removes_nothing():
     scan = box_scan(0)
-    assert not NoFilter().process(scan, pose_sensor_in_world=(0, 0, 0), pitch_rad=0.1).any()
-    assert NoFilter().process(scan).shape == (len(scan),)
+    assert not NoFilter().process(scan, pose_sensor_in_odom=(0, 0, 0), pitch_rad=0.1).removed.any()
+    result = NoFilter().process(scan)
+    assert result.removed.shape == (len(scan),) and result.scan is scan
+
+
+@pytest.mark.parametrize("name", ["none", "datmo", "imu_gate"])
+def test_every_baseline_is_a_registered_scan_filter(name):
+    scan_filter = make_filter(name)
+    assert isinstance(scan_filter, ScanFilter)
+    result = scan_filter.process(box_scan(0), pose_sensor_in_odom=(0, 0, 0), pitch_rad=0.0)
+    assert isinstance(result, FilterResult)
+    assert result.removed.shape == result.scores.shape == (len(box_scan(0)),)
+    np.testing.assert_array_equal(
+        np.isnan(result.scan.ranges) & ~np.isnan(box_scan(0).ranges), result.removed
+    )
+
+
+def test_baselines_refuse_to_run_without_the_input_they_need():
+    with pytest.raises(ValueError, match="pose_sensor_in_odom"):
+        DatmoLikeFilter().process(box_scan(0))
+    with pytest.raises(ValueError, match="pitch_rad"):
+        ImuHeightGate().process(box_scan(0))
 
 
 @pytest.mark.parametrize("velocity", [(0.5, 0.0), (-0.5, 0.0), (1.0, 0.0)])
@@ -49,16 +70,16 @@ def test_datmo_estimates_speed_of_box_moving_radially_within_ten_percent(velocit
     datmo = DatmoLikeFilter()
     for k in range(5):
         scan = box_scan(k, velocity=velocity)
-        datmo.process(scan, pose_sensor_in_world=(0.0, 0.0, 0.0))
-    speed = np.median(datmo.last_beam_speeds_mps[box_beams(scan, k, velocity=velocity)])
+        result = datmo.process(scan, pose_sensor_in_odom=(0.0, 0.0, 0.0))
+    speed = np.median(result.scores[box_beams(scan, k, velocity=velocity)])
     assert speed == pytest.approx(np.hypot(*velocity), rel=0.10)
 
 
 def test_datmo_removes_moving_box_and_keeps_static_wall():
-    datmo = DatmoLikeFilter(speed_threshold_mps=0.1)
+    datmo = DatmoLikeFilter(DatmoParams(speed_threshold_mps=0.1))
     for k in range(5):
         scan = box_scan(k)
-        removed = datmo.process(scan, pose_sensor_in_world=(0.0, 0.0, 0.0))
+        removed = datmo.process(scan, pose_sensor_in_odom=(0.0, 0.0, 0.0)).removed
     on_box, on_wall = box_beams(scan, k), wall_beams(scan)
     assert on_box.sum() >= 10 and on_wall.sum() >= 50
     assert removed[on_box].all()
@@ -66,38 +87,38 @@ def test_datmo_removes_moving_box_and_keeps_static_wall():
 
 
 def test_datmo_keeps_static_scene_seen_from_moving_sensor_with_its_world_pose():
-    datmo = DatmoLikeFilter(speed_threshold_mps=0.1)
+    datmo = DatmoLikeFilter(DatmoParams(speed_threshold_mps=0.1))
     for k in range(10):
         pose = (0.03 * k, 0.0, 0.02 * k)  # 0.3 m/s forward while turning left
         scan = box_scan(k, pose, velocity=(0.0, 0.0))
-        removed = datmo.process(scan, pose_sensor_in_world=pose)
+        removed = datmo.process(scan, pose_sensor_in_odom=pose).removed
         assert box_beams(scan, k, pose, velocity=(0.0, 0.0)).sum() >= 10
         assert not removed.any()
 
 
 def test_datmo_sensor_frame_poses_make_static_box_look_moving():
-    datmo = DatmoLikeFilter(speed_threshold_mps=0.1)
+    datmo = DatmoLikeFilter(DatmoParams(speed_threshold_mps=0.1))
     for k in range(5):
         pose = (0.05 * k, 0.0, 0.0)  # 0.5 m/s forward, but told it stands still
         scan = box_scan(k, pose, velocity=(0.0, 0.0))
-        removed = datmo.process(scan, pose_sensor_in_world=(0.0, 0.0, 0.0))
+        removed = datmo.process(scan, pose_sensor_in_odom=(0.0, 0.0, 0.0)).removed
     assert removed[box_beams(scan, k, pose, velocity=(0.0, 0.0))].all()
 
 
 def test_datmo_beam_speeds_threshold_like_the_filter():
-    datmo = DatmoLikeFilter(speed_threshold_mps=0.3)
+    datmo = DatmoLikeFilter(DatmoParams(speed_threshold_mps=0.3))
     for k in range(6):
-        removed = datmo.process(box_scan(k), pose_sensor_in_world=(0.0, 0.0, 0.0))
-    with np.errstate(invalid="ignore"):
-        np.testing.assert_array_equal(removed, datmo.last_beam_speeds_mps > 0.3)
+        result = datmo.process(box_scan(k), pose_sensor_in_odom=(0.0, 0.0, 0.0))
+    assert result.removed.any()
+    np.testing.assert_array_equal(result.removed, result.scores > 0.3)
 
 
 def test_datmo_reset_and_stamp_going_back_forget_tracks():
     datmo = DatmoLikeFilter()
     for k in range(3):
-        datmo.process(box_scan(k), pose_sensor_in_world=(0.0, 0.0, 0.0))
+        datmo.process(box_scan(k), pose_sensor_in_odom=(0.0, 0.0, 0.0))
     assert len(datmo.states) > 0
-    removed = datmo.process(box_scan(0), pose_sensor_in_world=(0.0, 0.0, 0.0))
+    removed = datmo.process(box_scan(0), pose_sensor_in_odom=(0.0, 0.0, 0.0)).removed
     assert not removed.any()  # every track is new again
     datmo.reset()
     assert len(datmo.states) == 0
@@ -105,9 +126,9 @@ def test_datmo_reset_and_stamp_going_back_forget_tracks():
 
 def test_datmo_rejects_bad_parameters():
     with pytest.raises(ValueError, match="gate_m"):
-        DatmoLikeFilter(gate_m=0.0)
-    with pytest.raises(ValueError, match="min_cluster_size"):
-        DatmoLikeFilter(min_cluster_size=10, max_cluster_size=5)
+        DatmoParams(gate_m=0.0)
+    with pytest.raises(ValueError, match="max_cluster_size: must be an integer >= 10"):
+        DatmoParams(min_cluster_size=10, max_cluster_size=5)
 
 
 LIDAR_HEIGHT = 0.25  # m
@@ -148,17 +169,24 @@ def tilted_room_scan(pitch, roll):
     return scan, heights
 
 
+def level_gate():
+    """The gate of a scanner that tilts about its own origin, as the closed-form room has it."""
+    return ImuHeightGate(ImuGateParams(lidar_height_m=LIDAR_HEIGHT, axle_height_m=LIDAR_HEIGHT))
+
+
 def test_imu_gate_keeps_level_wall():
     scan, _ = tilted_room_scan(0.0, 0.0)
-    assert not ImuHeightGate(LIDAR_HEIGHT).process(scan, pitch_rad=0.0, roll_rad=0.0).any()
+    assert not level_gate().process(scan, pitch_rad=0.0, roll_rad=0.0).removed.any()
 
 
 @pytest.mark.parametrize(("pitch_deg", "roll_deg"), [(5.0, 0.0), (-6.0, 0.0), (4.0, 3.0)])
 def test_imu_gate_drops_floor_and_ceiling_hits_of_tilted_scanner(pitch_deg, roll_deg):
     pitch, roll = math.radians(pitch_deg), math.radians(roll_deg)
     scan, heights = tilted_room_scan(pitch, roll)
-    gate = ImuHeightGate(LIDAR_HEIGHT, band_m=(0.05, 2.0))
-    removed = gate.process(scan, pitch_rad=pitch, roll_rad=roll)
+    gate = level_gate()
+    result = gate.process(scan, pitch_rad=pitch, roll_rad=roll)
+    removed = result.removed
+    np.testing.assert_array_equal(removed, result.scores > 0.0)
     np.testing.assert_allclose(gate.heights(scan, pitch, roll), heights, atol=1e-9)
     np.testing.assert_array_equal(removed, (heights < 0.05) | (heights > 2.0))
     on_floor = np.isclose(heights, 0.0)
@@ -172,10 +200,10 @@ def test_imu_gate_floor_hit_of_pitched_scanner_at_closed_form_range():
     scan, _ = tilted_room_scan(pitch, 0.0)
     ahead = len(scan) // 2  # beam at 0 rad
     assert scan.ranges[ahead] == pytest.approx(LIDAR_HEIGHT / math.sin(pitch))
-    assert ImuHeightGate(LIDAR_HEIGHT).process(scan, pitch_rad=pitch)[ahead]
+    assert level_gate().process(scan, pitch_rad=pitch).removed[ahead]
 
 
 def test_imu_gate_tilting_about_the_axle_lowers_the_scanner():
-    gate = ImuHeightGate(lidar_height_m=0.25, axle_height_m=0.05)
+    gate = ImuHeightGate(ImuGateParams(lidar_height_m=0.25, axle_height_m=0.05))
     assert gate.sensor_height(0.0, 0.0) == pytest.approx(0.25)
     assert gate.sensor_height(math.radians(60.0), 0.0) == pytest.approx(0.05 + 0.2 * 0.5)

@@ -62,3 +62,41 @@ def test_a_fall_exits_with_its_own_status_and_keeps_the_frames(tmp_path, capsys)
     with np.load(out / "frames.npz") as frames:
         assert 0 < len(frames["stamps"]) < 41
         assert "removed" not in frames.files
+
+
+def test_run_takes_any_registered_filter_a_user_s_own_too(tmp_path, capsys):
+    import dataclasses
+
+    from pvfilter import FilterEntry, FilterResult, register_filter
+    from pvfilter.registry import unregister_filter
+
+    @dataclasses.dataclass(frozen=True)
+    class EverythingParams:
+        p_th: float = 0.5
+
+    class Everything:
+        """Removes every valid beam."""
+
+        def __init__(self, params=None):
+            self.params = params or EverythingParams()
+
+        def process(self, scan, **robot_inputs):
+            removed = scan.valid_mask()
+            return FilterResult(scan, removed, removed.astype(float))
+
+        def reset(self):
+            pass
+
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SHORT)
+    register_filter(FilterEntry("everything", Everything, EverythingParams))
+    try:
+        for name in ("improved", "paper", "imu_gate", "datmo", "none", "everything"):
+            assert main(["run", str(scenario), "--quiet", "--filter", name]) == 0, name
+            printed = capsys.readouterr().out
+            assert "filter " in printed, name
+        assert "Everything: removed" in printed and "recall 1.000" in printed
+    finally:
+        unregister_filter("everything")
+    assert main(["run", str(scenario), "--quiet", "--filter", "everything"]) == EXIT_USAGE
+    assert "unknown filter 'everything'" in capsys.readouterr().err

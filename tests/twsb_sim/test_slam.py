@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from scaneval.slam import score_trajectory
-from twsb_sim.evaluation.methods import sensor_pose_2d
 from twsb_sim.house import ROBOT_RADIUS_M
 from twsb_sim.house.spawn import Obstacles
+from twsb_sim.robot_inputs import sensor_pose_2d
 from twsb_sim.slam.experiment import cut
 from twsb_sim.slam.recording import record_frames
 from twsb_sim.slam.sequences import hard_stop_sequence, shipped_sequence

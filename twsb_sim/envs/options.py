@@ -6,7 +6,9 @@ import math
 from dataclasses import fields
 from typing import Any, TypeVar
 
-from pvfilter import FilterParams, PitchVariationFilter
+from pvfilter import ScanFilter
+from pvfilter.registry import entry_for_params
+from twsb_sim.frame_filter import FrameFilter, as_frame_filter, frame_filter
 
 T = TypeVar("T")
 
@@ -50,12 +52,19 @@ def value_range(name: str, value: Range, limit: float) -> tuple[float, float]:
     return float(low), float(high)
 
 
-def make_scan_filter(scan_filter: Any) -> Any | None:
-    """The filter an env runs on every scan (see ``TwsbEnv``'s ``scan_filter``), or None."""
+def make_scan_filter(scan_filter: Any) -> FrameFilter | None:
+    """The filter an env runs on every scan (see ``TwsbEnv``'s ``scan_filter``), or None.
+
+    Raises:
+        ValueError: an unknown filter name, or parameters no registered filter takes.
+    """
     if scan_filter is None or scan_filter is False:
         return None
     if scan_filter is True:
-        return PitchVariationFilter()
-    if isinstance(scan_filter, FilterParams):
-        return PitchVariationFilter(scan_filter)
-    return scan_filter  # anything with process(scan) -> result.removed, and reset()
+        return frame_filter("paper", "PitchVariationFilter")
+    if isinstance(scan_filter, str):
+        return frame_filter(scan_filter, scan_filter)
+    if isinstance(scan_filter, FrameFilter | ScanFilter):
+        return as_frame_filter(scan_filter)
+    entry = entry_for_params(scan_filter)  # the parameters of a registered filter
+    return frame_filter(entry.name, entry.name, scan_filter)

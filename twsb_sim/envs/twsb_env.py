@@ -67,9 +67,11 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         reward: weights of the reward terms (a :class:`RewardConfig` or a dict of its fields).
         disturbances: shoves and hard stops (a :class:`Disturbances` or a dict of its
             fields); none by default.
-        scan_filter: True for a :class:`pvfilter.PitchVariationFilter` with Table I
-            parameters, a :class:`pvfilter.FilterParams`, or any object with
-            ``process(scan)`` and ``reset()``; its mask goes to ``info["filter_removed"]``.
+        scan_filter: the name of a registered filter (``"improved"``, ``"paper"``, ...;
+            given the robot inputs it needs), True for the paper's filter with Table I
+            parameters, the parameters of a registered filter, or a
+            :class:`pvfilter.ScanFilter` (run on the scans alone); its mask goes to
+            ``info["filter_removed"]``.
         sink: receives every frame, the filter's result and the events (a
             :class:`twsb_sim.sinks.FrameSink`, such as the Rerun logger).
         robot, lidar, controller: the simulator's subsystem parameters.
@@ -325,7 +327,7 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         """Cast the LiDAR now; hand the frame to the filter, the summary and the sink."""
         episode, sim = self._require_episode(), self.sim
         frame = sim.frame(episode.frames, phase="hard stop" if episode.hard_stop_active else "")
-        result = self.scan_filter.process(frame.scan) if self.scan_filter is not None else None
+        result = self.scan_filter.process(frame) if self.scan_filter is not None else None
         episode.frame, episode.filter_result = frame, result
         episode.frames += 1
         self._summary.add_frame(frame, None if result is None else result.removed)

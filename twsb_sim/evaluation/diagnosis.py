@@ -20,7 +20,7 @@ was mostly pitch variation (there was a track this cluster could continue); then
 first of Algorithm 2's checks that fails against the nearest queued cluster names it
 (its ``v_C`` check is the ``v_c`` stage above). Otherwise detection lost it (``score``).
 These gate outcomes are recomputed here from the filter's per-cluster records and
-``FilterParams``, the same tests as :mod:`pvfilter.tracking`.
+``FilterParams``, the same tests as :mod:`pvfilter.paper.tracking`.
 
 For every **false alarm** (a removed beam that is not a pitch-variation point), what it
 hit, from the hit geom's name (``wall_<k>``, ``door_frame_<k>_<side>``, furniture
@@ -37,7 +37,7 @@ from collections import Counter
 import numpy as np
 from scipy.spatial import cKDTree
 
-from pvfilter import FilterParams, FilterResult
+from pvfilter import FilterParams, FilterResult, PaperResult
 from twsb_sim.frame import Frame
 from twsb_sim.house import FURNITURE_KINDS
 from twsb_sim.labels import is_pitch_variation
@@ -74,7 +74,7 @@ class Queue:
     pitch_variation: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, dtype=bool))
 
 
-def cluster_pv_share(result: FilterResult, positive: np.ndarray) -> np.ndarray:
+def cluster_pv_share(result: PaperResult, positive: np.ndarray) -> np.ndarray:
     """Share of each cluster's beams that are pitch-variation points."""
     clusters = result.detection.clusters
     labels = clusters.labels
@@ -83,7 +83,7 @@ def cluster_pv_share(result: FilterResult, positive: np.ndarray) -> np.ndarray:
     return hits / np.maximum(clusters.sizes, 1)
 
 
-def queue_of(result: FilterResult, positive: np.ndarray) -> Queue:
+def queue_of(result: PaperResult, positive: np.ndarray) -> Queue:
     """Q^t of a scan: its detected or tracked clusters (what the next scan associates with)."""
     clusters = result.detection.clusters
     queued = result.detection.detected | result.tracked
@@ -92,7 +92,7 @@ def queue_of(result: FilterResult, positive: np.ndarray) -> Queue:
 
 
 def attribute_misses(
-    frame: Frame, result: FilterResult, previous: Queue, params: FilterParams
+    frame: Frame, result: PaperResult, previous: Queue, params: FilterParams
 ) -> np.ndarray:
     """The stage that lost each missed beam: an index into :data:`MISS_STAGES` per beam.
 
@@ -177,6 +177,8 @@ def describe_false_alarms(
 ) -> Counter:
     """Count a frame's false-alarm beams by (what it hit, first seen?, removed how).
 
+    Any filter whose result has clusters (:meth:`pvfilter.FilterResult.cluster_view`).
+
     Returns:
         Counter of ``(kind, "first seen" | "seen before", "detected" | "tracked")`` -> beams.
     """
@@ -185,8 +187,9 @@ def describe_false_alarms(
     if beams.size == 0:
         return Counter()
     new = first_seen(frame, previous, beams)
-    cluster_of = result.detection.clusters.labels[beams]
-    detected = result.detection.detected[cluster_of]
+    view = result.cluster_view()
+    cluster_of = view.clusters.labels[beams]
+    detected = view.detected[cluster_of]
     ids = frame.geom_ids[beams] if frame.geom_ids is not None else np.full(beams.size, -1)
     kinds = [surface_kind(geom_names[g]) if g >= 0 else "other" for g in ids.tolist()]
     return Counter(
@@ -226,7 +229,7 @@ class RunDiagnosis:
 
 def diagnose_run(
     frames: tuple[Frame, ...],
-    results: tuple[FilterResult, ...],
+    results: tuple[PaperResult, ...],
     params: FilterParams,
     geom_names: tuple[str, ...],
     run_id: str,

@@ -21,52 +21,22 @@ from collections import defaultdict
 import numpy as np
 from tqdm import tqdm
 
-from pvfilter import FilterParams
+from pvfilter import FilterParams, filter_entry
 from scaneval.metrics import pr_curve
-from twsb_sim.evaluation.config import (
-    DEFAULT_IMU_BAND_M,
-    PAPER_DATMO_SPEEDS_MPS,
-    EvalConfig,
-    parse_house,
-)
+from twsb_sim.evaluation.config import EvalConfig, parse_house
 from twsb_sim.evaluation.diagnosis import RunDiagnosis, diagnose_run
+from twsb_sim.evaluation.families import (
+    FILTERS,
+    LABELS,
+    OPERATING_POINTS,
+    SWEPT,
+    family_filter,
+    sweep_values,
+)
 from twsb_sim.evaluation.improved import ImprovedEvaluation
-from twsb_sim.evaluation.methods import DatmoMethod, ImuGateMethod, PvfMethod
 from twsb_sim.evaluation.passes import operating_pass, score_sweep_counts, sweep_counts
 from twsb_sim.evaluation.recording import Recording, record, sequence_in_house, with_robot
 from twsb_sim.evaluation.scan_matching import align, pitch_variation_runs, summarize
-
-# method families: key -> label; each has a sweep and an operating point
-LABELS: dict[str, str] = {
-    "pvf": "PVF (detection + tracking)",
-    "pvf_detection_only": "PVF (detection only)",
-    "datmo": "DATMO-like",
-    "imu_gate": "IMU height gate",
-}
-OPERATING_POINTS = {  # the value each family runs at in the timed pass
-    "pvf": FilterParams().p_th,
-    "pvf_detection_only": FilterParams().p_th,
-    "datmo": PAPER_DATMO_SPEEDS_MPS[0],
-    "imu_gate": DEFAULT_IMU_BAND_M,
-}
-SWEPT = {"pvf": "P_th", "pvf_detection_only": "P_th", "datmo": "speed, m/s", "imu_gate": "band, m"}
-
-
-def make_method(family: str, value: float, recording: Recording):
-    """The method of a family at one swept value."""
-    if family == "pvf":
-        return PvfMethod(FilterParams(p_th=value), LABELS[family])
-    if family == "pvf_detection_only":
-        return PvfMethod(FilterParams(p_th=value, tracking=False), LABELS[family])
-    if family == "datmo":
-        return DatmoMethod(value, LABELS[family])
-    return ImuGateMethod(recording.lidar_height_m, value, recording.axle_height_m, LABELS[family])
-
-
-def sweep_values(config: EvalConfig, family: str) -> tuple[float, ...]:
-    if family.startswith("pvf"):
-        return config.p_th_values
-    return config.datmo_speeds_mps if family == "datmo" else config.imu_bands_m
 
 
 @dataclasses.dataclass
@@ -90,7 +60,7 @@ class Evaluation:
             self.improved = ImprovedEvaluation(self.config)
 
     def add_run(self, recording: Recording, progress: bool = False) -> None:
-        """Replay one recorded run through every method and experiment."""
+        """Replay one recorded run through every filter and experiment."""
         config, seq = self.config, recording.sequence
         row = {
             "run": recording.run_id,
@@ -103,11 +73,11 @@ class Evaluation:
             "pitch_variation_frames": recording.summary.pitch_variation_frames,
             "auc": {},
         }
-        # 1. the timed pass, every method at its operating point
-        methods = {
-            LABELS[f]: make_method(f, OPERATING_POINTS[f], recording) for f in config.families
+        # 1. the timed pass, every filter at its operating point
+        filters = {
+            LABELS[f]: family_filter(f, OPERATING_POINTS[f], recording) for f in config.families
         }
-        timed = operating_pass(recording, methods, LABELS["pvf"])
+        timed = operating_pass(recording, filters, LABELS["pvf"])
         self.first_run = self.first_run or recording.run_id
         for name, seconds in timed.seconds.items():
             self.seconds[name].append(seconds)
@@ -115,11 +85,12 @@ class Evaluation:
         # 2. the sweeps
         for family in config.families:
             values = sweep_values(config, family)
-            if family == "datmo":  # its tracking does not depend on the threshold: one pass
-                counts = score_sweep_counts(recording, make_method(family, 0.0, recording), values)
-            else:  # a fresh method per value
+            if filter_entry(FILTERS[family]).one_pass:  # its state ignores the threshold
+                one = family_filter(family, 0.0, recording)
+                counts = score_sweep_counts(recording, one, values)
+            else:  # a fresh filter per value
                 counts = sweep_counts(
-                    recording, lambda v, f=family: make_method(f, v, recording), values,
+                    recording, lambda v, f=family: family_filter(f, v, recording), values,
                     progress, desc=f"{LABELS[family]} sweep",
                 )  # fmt: skip
             key = (seq, family)

@@ -29,9 +29,10 @@ from pvfilter import FilterParams, ImprovedParams, load_params
 from scaneval.metrics import pr_curve
 from twsb_sim.evaluation.config import DEFAULT_IMU_BAND_M, EvalConfig
 from twsb_sim.evaluation.diagnosis import describe_false_alarms
-from twsb_sim.evaluation.methods import ImprovedMethod, ImuGateMethod, PvfMethod
+from twsb_sim.evaluation.families import family_filter
 from twsb_sim.evaluation.passes import beam_truth, sweep_counts
 from twsb_sim.evaluation.recording import Recording
+from twsb_sim.frame_filter import FrameFilter, frame_filter
 from twsb_sim.labels import BeamLabel
 
 # ablation: name -> (what is switched off, how)
@@ -83,16 +84,20 @@ def _set(params: ImprovedParams, **changes: object) -> ImprovedParams:
     return dataclasses.replace(params, **changes)
 
 
-def robot_params(params: ImprovedParams, recording: Recording) -> ImprovedParams:
-    """``params`` with the recorded robot's LiDAR and axle heights."""
-    return _set(
-        params, lidar_height_m=recording.lidar_height_m, axle_height_m=recording.axle_height_m
+def improved_filter(
+    recording: Recording, params: ImprovedParams | None = None, imu: bool = False, label: str = ""
+) -> FrameFilter:
+    """The improved filter told the recorded robot's LiDAR and axle heights (a user knows
+    them); with ``imu`` it is also given the IMU's pitch and roll."""
+    inputs = ("pitch_rad", "roll_rad") if imu else ()
+    return frame_filter(
+        "improved", label or "improved", params, geometry=recording.geometry, inputs=inputs
     )
 
 
 @dataclasses.dataclass
 class Tally:
-    """What one method gave over some runs: sweep counts and STATIC beams at its operating
+    """What one filter gave over some runs: sweep counts and STATIC beams at its operating
     point."""
 
     thresholds: tuple[float, ...]
@@ -122,35 +127,35 @@ class Tally:
 
 
 def one_pass(
-    recording: Recording, method: ImprovedMethod, thresholds: tuple[float, ...], op: float
+    recording: Recording, improved: FrameFilter, thresholds: tuple[float, ...], op: float
 ) -> tuple[np.ndarray, int, int, np.ndarray]:
     """Sweep counts, STATIC beams removed at ``op`` and per-frame seconds, from one pass."""
     values = np.asarray(thresholds)[:, None]
     counts = np.zeros((len(thresholds), 3), dtype=np.int64)
     static_removed = static_total = 0
     seconds = np.zeros(len(recording.frames))
-    method.reset()
+    improved.reset()
     for k, frame in enumerate(recording.frames):
         start = time.perf_counter()
-        method.process(frame)
+        scores = improved.process(frame).scores
         seconds[k] = time.perf_counter() - start
         positive, finite = beam_truth(frame)
-        removed = (method.beam_scores()[None, :] > values) & finite
+        removed = (scores[None, :] > values) & finite
         tp = np.count_nonzero(removed & positive, axis=1)
         fn = np.count_nonzero(positive & finite) - tp
         counts += np.stack((tp, removed.sum(axis=1) - tp, fn), axis=1)
         static = (frame.labels == BeamLabel.STATIC) & finite
-        static_removed += int(np.count_nonzero(method.beam_scores()[static] > op))
+        static_removed += int(np.count_nonzero(scores[static] > op))
         static_total += int(np.count_nonzero(static))
     return counts, static_removed, static_total, seconds
 
 
-def static_at(recording: Recording, method) -> tuple[int, int]:
-    """STATIC beams a method removes over a run, and all STATIC beams with a finite range."""
-    method.reset()
+def static_at(recording: Recording, frame_filter: FrameFilter) -> tuple[int, int]:
+    """STATIC beams a filter removes over a run, and all STATIC beams with a finite range."""
+    frame_filter.reset()
     removed = total = 0
     for frame in recording.frames:
-        mask = np.asarray(method.process(frame), dtype=bool)
+        mask = frame_filter.process(frame).removed
         static = (frame.labels == BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
         removed += int(np.count_nonzero(mask & static))
         total += int(np.count_nonzero(static))
@@ -164,19 +169,18 @@ def diagnose(recording: Recording, params: ImprovedParams) -> tuple[Counter, Cou
         Missed beams per :data:`IMPROVED_MISSES` key, false-alarm beams per (surface kind,
         first seen or seen before, detected), and the run's pitch-variation beams.
     """
-    method = ImprovedMethod(params)
+    improved = improved_filter(recording, params)
     misses, false_alarms, positives, previous = Counter(), Counter(), 0, None
     for frame in recording.frames:
-        method.process(frame)
-        result = method.last_result
+        result = improved.process(frame)
         positive, finite = beam_truth(frame)
         positive &= finite
         positives += int(np.count_nonzero(positive))
         missed = np.flatnonzero(positive & ~result.removed)
-        detection = result.detection
-        cluster = detection.clusters.labels[missed]
-        new = detection.new_points[missed]
-        gated = np.append(detection.p_theta, 0.0)[cluster] > 0.0
+        lines = result.lines
+        cluster = lines.clusters.labels[missed]
+        new = lines.new_points[missed]
+        gated = np.append(lines.passes_gates, False)[cluster]
         misses["not_new"] += int(np.count_nonzero(~new))
         misses["small"] += int(np.count_nonzero(new & (cluster < 0)))
         misses["gates"] += int(np.count_nonzero(new & (cluster >= 0) & ~gated))
@@ -210,23 +214,23 @@ class ImprovedEvaluation:
                 raise ValueError(f"{self.config.improved_params}: not improved-filter parameters")
             self.tuned = tuned
 
-    def improved_methods(self, recording: Recording) -> dict[str, tuple[str, ImprovedMethod]]:
-        """name -> (label, method) of the improved filter's variants compared."""
-        default = robot_params(ImprovedParams(), recording)
-        methods = {
-            "improved": ("improved (defaults)", ImprovedMethod(default)),
-            "improved_imu": ("improved + IMU", ImprovedMethod(default, imu=True)),
+    def improved_filters(self, recording: Recording) -> dict[str, FrameFilter]:
+        """name -> the improved filter's variants compared."""
+        filters = {
+            "improved": improved_filter(recording, label="improved (defaults)"),
+            "improved_imu": improved_filter(recording, imu=True, label="improved + IMU"),
         }
         if self.tuned is not None:
-            tuned = robot_params(self.tuned, recording)
-            methods["improved_tuned"] = ("improved (tuned)", ImprovedMethod(tuned))
-        return methods
+            filters["improved_tuned"] = improved_filter(
+                recording, self.tuned, label="improved (tuned)"
+            )
+        return filters
 
     def _tally(self, group: str, key: str, name: str, thresholds, op) -> Tally:
         return self.tallies[(group, key)].setdefault(name, Tally(tuple(thresholds), op))
 
     def add_run(self, recording: Recording, group: str, key: str, paper_counts=None) -> None:
-        """Replay one run through the compared methods (and, for main runs, the ablation).
+        """Replay one run through the compared filters (and, for main runs, the ablation).
 
         Args:
             recording: the run.
@@ -238,58 +242,56 @@ class ImprovedEvaluation:
         config = self.config
         p_th = tuple(config.p_th_values)
         # the paper's filter: the P_th sweep run afresh per value, STATIC at Table I
+        paper = lambda v: family_filter("pvf", v, recording)  # noqa: E731
         if paper_counts is None:
-            paper_counts = sweep_counts(recording, lambda v: PvfMethod(FilterParams(p_th=v)), p_th)
+            paper_counts = sweep_counts(recording, paper, p_th)
         paper_op = FilterParams().p_th
         self.labels["pvf"] = "paper PVF (Table I)"
         self._tally(group, key, "pvf", p_th, paper_op).add(
-            paper_counts, *static_at(recording, PvfMethod(FilterParams()))
+            paper_counts, *static_at(recording, paper(paper_op))
         )
         # the IMU height gate: stateless, its band sweep is cheap
         bands = tuple(config.imu_bands_m)
-        gate = lambda band: ImuGateMethod(recording.lidar_height_m, band, recording.axle_height_m)  # noqa: E731
+        gate = lambda band: family_filter("imu_gate", band, recording)  # noqa: E731
         self.labels["imu_gate"] = "IMU height gate"
         self._tally(group, key, "imu_gate", bands, DEFAULT_IMU_BAND_M).add(
             sweep_counts(recording, gate, bands), *static_at(recording, gate(DEFAULT_IMU_BAND_M))
         )
         # the improved filter's variants: one pass each gives the whole sweep
-        for name, (label, method) in self.improved_methods(recording).items():
-            self.labels[name] = label
-            op = method.filter.params.p_th
+        for name, improved in self.improved_filters(recording).items():
+            self.labels[name] = improved.label
+            op = improved.scan_filter.params.p_th
             values = tuple(sorted({*p_th, op}))  # a tuned operating point joins the sweep
-            counts, removed, total, seconds = one_pass(recording, method, values, op)
+            counts, removed, total, seconds = one_pass(recording, improved, values, op)
             self._tally(group, key, name, values, op).add(counts, removed, total)
             if group == "sequences":
                 self.seconds[name].append(seconds)
         if group == "sequences":
             self._ablation(recording, key, p_th)
             self._time_against_paper(recording)
-            misses, false_alarms, positives = diagnose(
-                recording, robot_params(ImprovedParams(), recording)
-            )
+            misses, false_alarms, positives = diagnose(recording, ImprovedParams())
             self.misses[key].update(misses)
             self.false_alarms[key].update(false_alarms)
             self.positives[key] += positives
 
     def _ablation(self, recording: Recording, key: str, p_th: tuple[float, ...]) -> None:
-        base = robot_params(ImprovedParams(), recording)
+        base = ImprovedParams()
         values = tuple(sorted({*p_th, base.p_th}))
         for name, (_, change) in ABLATION.items():
-            method = ImprovedMethod(change(base))
-            counts, removed, total, _ = one_pass(recording, method, values, base.p_th)
+            improved = improved_filter(recording, change(base))
+            counts, removed, total, _ = one_pass(recording, improved, values, base.p_th)
             self._tally("ablation", key, name, values, base.p_th).add(counts, removed, total)
 
     def _time_against_paper(self, recording: Recording) -> None:
         """Paper's filter and improved filter called in turn on each frame, timed."""
-        paper = PvfMethod(FilterParams())
-        improved = ImprovedMethod(robot_params(ImprovedParams(), recording))
+        pair = (family_filter("pvf", FilterParams().p_th, recording), improved_filter(recording))
         seconds = np.zeros((2, len(recording.frames)))
-        for method in (paper, improved):
-            method.reset()
+        for each in pair:
+            each.reset()
         for k, frame in enumerate(recording.frames):
-            for row, method in enumerate((paper, improved)):
+            for row, each in enumerate(pair):
                 start = time.perf_counter()
-                method.process(frame)
+                each.process(frame)
                 seconds[row, k] = time.perf_counter() - start
         self.seconds["same_loop_paper"].append(seconds[0])
         self.seconds["same_loop_improved"].append(seconds[1])

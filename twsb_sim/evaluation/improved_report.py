@@ -11,8 +11,8 @@ matplotlib.use("Agg")  # files only, no display
 import matplotlib.pyplot as plt
 import numpy as np
 
+from twsb_sim.evaluation.markdown import fmt, table
 from twsb_sim.evaluation.plots import save_figure, style_pr_axes
-from twsb_sim.evaluation.report import _f, _table
 
 TARGETS = {"auc": 0.95, "precision": 0.9, "static_removed_pct": 1.0, "rate_hz": 2000.0}
 STYLES = {  # method -> (colour, line style, marker)
@@ -33,10 +33,10 @@ def _method_rows(per_method: dict, labels: dict, timing: dict | None = None) -> 
         rows.append(
             [
                 labels.get(name, name),
-                _f(m["auc"]),
+                fmt(m["auc"]),
                 f"{m['operating_point']:g}",
-                f"{_f(m['precision'])} / {_f(m['recall'])}",
-                f"{_f(m['static_removed_pct'], 2)} %",
+                f"{fmt(m['precision'])} / {fmt(m['recall'])}",
+                f"{fmt(m['static_removed_pct'], 2)} %",
                 *([rate] if timing is not None else []),
             ]
         )
@@ -71,7 +71,7 @@ def render_improved_section(results: dict) -> str:
     for seq, per_method in improved.get("sequences", {}).items():
         parts.append(
             f"### {seq}\n\n"
-            + _table([*HEADER, "rate Hz"], _method_rows(per_method, labels, rate_of))
+            + table([*HEADER, "rate Hz"], _method_rows(per_method, labels, rate_of))
         )
     if "same_loop_paper" in timing:
         paper, mine = timing["same_loop_paper"], timing["same_loop_improved"]
@@ -88,15 +88,15 @@ def render_improved_section(results: dict) -> str:
                 [
                     name,
                     switches[name],
-                    _f(m["auc"]),
-                    f"{_f(m['precision'])} / {_f(m['recall'])}",
-                    f"{_f(m['static_removed_pct'], 2)} %",
+                    fmt(m["auc"]),
+                    f"{fmt(m['precision'])} / {fmt(m['recall'])}",
+                    f"{fmt(m['static_removed_pct'], 2)} %",
                 ]
                 for name, m in per_variant.items()
             ]
             parts.append(
                 f"### Ablation, {seq}\n\n"
-                + _table(
+                + table(
                     ["variant", "switched off", "AUC", "precision / recall", "STATIC removed"],
                     rows,
                 )
@@ -110,14 +110,14 @@ def render_improved_section(results: dict) -> str:
         parts.append(
             f"### Where the improved filter (defaults) still fails, {seq}\n\n"
             f"Missed {missed} of {d['positives']} pitch-variation beams:\n\n"
-            + _table(["why", "beams", "of all pitch-variation beams"], rows)
+            + table(["why", "beams", "of all pitch-variation beams"], rows)
             + f"\n\nFalse alarms ({alarms} beams), by what they hit:\n\n"
-            + _table(["what it hit", "surface", "beams"], fa_rows)
+            + table(["what it hit", "surface", "beams"], fa_rows)
         )
     for group, title in (("heldout", "Held-out random houses"), ("variations", "Robot variations")):
         for key, per_method in improved.get(group, {}).items():
-            table = _table(HEADER, _method_rows(per_method, labels))
-            parts.append(f"### {title}: {key}\n\n{table}")
+            rows = table(HEADER, _method_rows(per_method, labels))
+            parts.append(f"### {title}: {key}\n\n{rows}")
     return "\n\n".join(parts)
 
 

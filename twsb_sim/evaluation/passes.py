@@ -1,9 +1,10 @@
-"""Passes of methods over a recording: threshold sweeps, and the timed operating-point pass.
+"""Passes of filters over a recording: threshold sweeps, and the timed operating-point pass.
 
 Every pass replays the stored frames of one simulated run; nothing is simulated again.
-A sweep builds a fresh method per threshold and runs it over the whole sequence
-(DESIGN.md: the P_th sweep is run afresh per value), summing per-beam counts over the
-beams whose input range is finite.
+A sweep builds a fresh filter per threshold and runs it over the whole sequence (the
+P_th sweep is run afresh per value), summing per-beam counts over the beams whose input
+range is finite; a filter whose state does not depend on the threshold and that removes
+exactly the beams scoring above it gives every threshold in one pass.
 """
 
 from __future__ import annotations
@@ -16,9 +17,9 @@ import numpy as np
 from tqdm import tqdm
 
 from pvfilter import FilterResult
-from twsb_sim.evaluation.methods import Method, PvfMethod
 from twsb_sim.evaluation.recording import Recording
 from twsb_sim.frame import Frame
+from twsb_sim.frame_filter import FrameFilter
 from twsb_sim.labels import is_pitch_variation
 
 
@@ -36,53 +37,53 @@ def confusion(frame: Frame, removed: np.ndarray) -> np.ndarray:
     return np.array([tp, np.count_nonzero(predicted) - tp, np.count_nonzero(positive) - tp])
 
 
-def run_method(method: Method, frames: Sequence[Frame]) -> np.ndarray:
-    """Run a method over frames from a reset; summed (tp, fp, fn)."""
-    method.reset()
+def run_filter(frame_filter: FrameFilter, frames: Sequence[Frame]) -> np.ndarray:
+    """Run a filter over frames from a reset; summed (tp, fp, fn)."""
+    frame_filter.reset()
     counts = np.zeros(3, dtype=np.int64)
     for frame in frames:
-        counts += confusion(frame, np.asarray(method.process(frame), dtype=bool))
+        counts += confusion(frame, frame_filter.process(frame).removed)
     return counts
 
 
 def sweep_counts(
     recording: Recording,
-    make_method: Callable[[float], Method],
+    make_filter: Callable[[float], FrameFilter],
     thresholds: Sequence[float],
     progress: bool = False,
     desc: str = "",
 ) -> np.ndarray:
-    """(tp, fp, fn) per threshold, shape ``(k, 3)``: a fresh method per threshold.
+    """(tp, fp, fn) per threshold, shape ``(k, 3)``: a fresh filter per threshold.
 
     Args:
         recording: the frames to replay.
-        make_method: builds the method for one threshold value.
+        make_filter: builds the filter for one threshold value.
         thresholds: the swept values.
         progress: show a progress bar over the thresholds.
         desc: its label.
     """
     values = tqdm(thresholds, desc=desc, unit="value", disable=not progress, leave=False)
-    return np.array([run_method(make_method(v), recording.frames) for v in values])
+    return np.array([run_filter(make_filter(v), recording.frames) for v in values])
 
 
 def score_sweep_counts(
-    recording: Recording, method: Method, thresholds: Sequence[float]
+    recording: Recording, frame_filter: FrameFilter, thresholds: Sequence[float]
 ) -> np.ndarray:
-    """(tp, fp, fn) per threshold, shape ``(k, 3)``, from one pass of a method whose
+    """(tp, fp, fn) per threshold, shape ``(k, 3)``, from one pass of a filter whose
     state does not depend on the threshold and that removes the beams scoring above it.
 
     Args:
         recording: the frames to replay.
-        method: has ``beam_scores()``, per beam after each ``process`` (NaN: never removed).
+        frame_filter: a filter whose result's ``scores`` say at which thresholds each beam
+            is removed (a ``one_pass`` filter of the registry).
         thresholds: the swept values; a beam is removed at ``v`` when its score is ``> v``.
     """
-    method.reset()
+    frame_filter.reset()
     values = np.asarray(thresholds, dtype=np.float64)
     counts = np.zeros((values.size, 3), dtype=np.int64)
     for frame in recording.frames:
-        method.process(frame)
-        with np.errstate(invalid="ignore"):
-            masks = method.beam_scores()[None, :] > values[:, None]
+        scores = frame_filter.process(frame).scores
+        masks = scores[None, :] > values[:, None]
         counts += [confusion(frame, mask) for mask in masks]
     return counts
 
@@ -95,8 +96,8 @@ class OperatingPass:
         seconds: per method name, the wall time of each ``process`` call, s, ``(frames,)``.
         counts: per method name, summed (tp, fp, fn).
         removed: per method name, the removed mask of every frame, ``(frames, n)``.
-        pvf_results: the Pitch Variation Filter's full result per frame (for the
-            diagnosis), from the method named ``pvf_name``.
+        pvf_results: the paper filter's full result per frame (for the diagnosis), from
+            the filter named ``pvf_name``.
     """
 
     seconds: dict[str, np.ndarray]
@@ -106,36 +107,34 @@ class OperatingPass:
 
 
 def operating_pass(
-    recording: Recording, methods: Mapping[str, Method], pvf_name: str
+    recording: Recording, filters: Mapping[str, FrameFilter], pvf_name: str
 ) -> OperatingPass:
-    """Run every method over the frames, interleaved per frame, timing each call.
+    """Run every filter over the frames, interleaved per frame, timing each call.
 
-    Interleaving puts every method under the same machine load at the same moment, so
+    Interleaving puts every filter under the same machine load at the same moment, so
     their rates compare within the run even on a shared machine.
 
     Args:
         recording: the frames.
-        methods: name -> method at its operating point.
-        pvf_name: the name of the :class:`PvfMethod` whose results are kept.
+        filters: name -> filter at its operating point.
+        pvf_name: the name of the paper filter whose results are kept.
     """
-    for method in methods.values():
-        method.reset()
+    for frame_filter in filters.values():
+        frame_filter.reset()
     n_frames = len(recording.frames)
-    seconds = {name: np.zeros(n_frames) for name in methods}
-    counts = {name: np.zeros(3, dtype=np.int64) for name in methods}
-    removed = {name: [] for name in methods}
+    seconds = {name: np.zeros(n_frames) for name in filters}
+    counts = {name: np.zeros(3, dtype=np.int64) for name in filters}
+    removed = {name: [] for name in filters}
     results: list[FilterResult] = []
-    pvf = methods[pvf_name]
-    assert isinstance(pvf, PvfMethod)
     clock = time.perf_counter
     for k, frame in enumerate(recording.frames):
-        for name, method in methods.items():
+        for name, frame_filter in filters.items():
             start = clock()
-            mask = method.process(frame)
+            result = frame_filter.process(frame)
             seconds[name][k] = clock() - start
-            mask = np.asarray(mask, dtype=bool)
-            counts[name] += confusion(frame, mask)
-            removed[name].append(mask)
-        results.append(pvf.last_result)
+            counts[name] += confusion(frame, result.removed)
+            removed[name].append(result.removed)
+            if name == pvf_name:
+                results.append(result)
     stacked = {name: np.array(masks, dtype=bool) for name, masks in removed.items()}
     return OperatingPass(seconds, counts, stacked, tuple(results))

@@ -15,6 +15,7 @@ from twsb_sim.frame import Frame
 from twsb_sim.house import House
 from twsb_sim.runner import build_house, run_scenario
 from twsb_sim.scenario import HouseChoice, Scenario, load_scenario
+from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.simulation import build_model
 from twsb_sim.sinks import NullSink
 from twsb_sim.summary import RunSummary
@@ -48,6 +49,11 @@ class Recording:
     def run_id(self) -> str:
         return f"{self.sequence}/{self.house}/seed{self.seed}"
 
+    @property
+    def geometry(self) -> dict[str, float]:
+        """The robot geometry filters take (``robot_geometry`` of :func:`pvfilter.make_filter`)."""
+        return {"lidar_height_m": self.lidar_height_m, "axle_height_m": self.axle_height_m}
+
 
 class _Collect(NullSink):
     def __init__(self) -> None:
@@ -79,7 +85,6 @@ def sequence_in_house(
         duration_s: keep only this many simulated seconds (commands and shoves that end
             later are dropped); None keeps the whole sequence.
     """
-    from twsb_sim.cli import resolve_scenario  # the command line imports this package
 
     scenario = load_scenario(resolve_scenario(sequence))
     choice = HouseChoice(name=house_name, seed=house_seed)

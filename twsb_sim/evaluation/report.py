@@ -13,8 +13,11 @@ from pathlib import Path
 from pvfilter import FilterParams
 from twsb_sim.evaluation import plots
 from twsb_sim.evaluation.diagnosis import MISS_STAGES
-from twsb_sim.evaluation.experiment import LABELS, Evaluation
+from twsb_sim.evaluation.experiment import Evaluation
+from twsb_sim.evaluation.families import LABELS
 from twsb_sim.evaluation.frame_pictures import render_snapshot
+from twsb_sim.evaluation.improved_report import plot_improved, render_improved_section
+from twsb_sim.evaluation.markdown import fmt, table
 from twsb_sim.evaluation.scan_matching import CONDITIONS
 
 PAPER = {  # DESIGN.md, "Reference numbers from the paper"
@@ -44,8 +47,6 @@ def write_outputs(results: dict, evaluation: Evaluation, out_dir: Path, command:
     plots.plot_chamfer(results, out_dir / "chamfer.png")
     plots.plot_pose_errors(results, out_dir / "pose_errors.png")
     if "improved" in results:
-        from twsb_sim.evaluation.improved_report import plot_improved  # it imports this module
-
         plot_improved(results, out_dir / IMPROVED_PLOT)
     results["examples"] = _write_examples(evaluation, out_dir)
     (out_dir / "results.json").write_text(json.dumps(_strict(results), indent=1) + "\n")
@@ -78,21 +79,8 @@ def _strict(value: object) -> object:
     return value
 
 
-def _f(value: float | None, digits: int = 3) -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "n/a"
-    return f"{value:.{digits}f}"
-
-
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return "\n".join([*lines, *("| " + " | ".join(row) + " |" for row in rows)])
-
-
 def render_report(results: dict) -> str:
     """The text of ``report.md``."""
-    from twsb_sim.evaluation.improved_report import render_improved_section
-
     sections = [
         _overview(results),
         _headline(results),
@@ -127,14 +115,14 @@ def _headline(results: dict) -> str:
     matching = results["scan_matching"]["all"]["onset"]
     rows = []
     for seq, curves in pr.items():
-        rows.append([f"PVF AUC, {seq}", f"≥ {paper['pvf_auc_min']}", _f(curves["pvf"]["auc"])])
+        rows.append([f"PVF AUC, {seq}", f"≥ {paper['pvf_auc_min']}", fmt(curves["pvf"]["auc"])])
     for seq, curves in pr.items():
         if "datmo" in curves:
             rows.append(
                 [
                     f"DATMO-like AUC (speed sweep), {seq}",
                     f"{paper['datmo_auc']}",
-                    _f(curves["datmo"]["auc"]),
+                    fmt(curves["datmo"]["auc"]),
                 ]
             )
     methods = timing["methods"]
@@ -164,7 +152,7 @@ def _headline(results: dict) -> str:
                 f"{values['chamfer_reduction_pct']:.2f} %",
             ]
         )
-    return "## Our numbers next to the paper's\n\n" + _table(["what", "paper", "ours"], rows)
+    return "## Our numbers next to the paper's\n\n" + table(["what", "paper", "ours"], rows)
 
 
 def _pr_section(results: dict) -> str:
@@ -180,16 +168,16 @@ def _pr_section(results: dict) -> str:
             rows.append(
                 [
                     c["label"],
-                    _f(c["auc"]),
-                    f"{_f(runs['min'])} / {_f(runs['mean'])} / {_f(runs['max'])}",
+                    fmt(c["auc"]),
+                    f"{fmt(runs['min'])} / {fmt(runs['mean'])} / {fmt(runs['max'])}",
                     f"{_f1(c['precision'][best], c['recall'][best]):.3f} at {c['swept']} "
-                    f"{c['thresholds'][best]:g} (P {_f(c['precision'][best])}, "
-                    f"R {_f(c['recall'][best])})",
+                    f"{c['thresholds'][best]:g} (P {fmt(c['precision'][best])}, "
+                    f"R {fmt(c['recall'][best])})",
                 ]
             )
         parts.append(
             f"### {seq}\n\n"
-            + _table(["method", "AUC (pooled)", "AUC per run (min / mean / max)", "best F1"], rows)
+            + table(["method", "AUC (pooled)", "AUC per run (min / mean / max)", "best F1"], rows)
         )
         parts.append(_sweep_table(curves))
     return "\n\n".join(parts)
@@ -208,8 +196,8 @@ def _sweep_table(curves: dict) -> str:
                 [
                     c["label"],
                     f"{c['swept']} = {value:g}",
-                    _f(c["precision"][i]),
-                    _f(c["recall"][i]),
+                    fmt(c["precision"][i]),
+                    fmt(c["recall"][i]),
                     str(c["tp"][i]),
                     str(c["fp"][i]),
                     str(c["fn"][i]),
@@ -218,7 +206,7 @@ def _sweep_table(curves: dict) -> str:
     header = ["method", "value", "precision", "recall", "TP", "FP", "FN"]
     return (
         "<details><summary>every swept point</summary>\n\n"
-        + _table(header, rows)
+        + table(header, rows)
         + ("\n\n</details>")
     )
 
@@ -230,9 +218,9 @@ def _timing_section(results: dict) -> str:
             name,
             f"{timing['operating_points'][name]:g}",
             str(t["frames"]),
-            _f(t["mean_ms"]),
-            _f(t["median_ms"]),
-            _f(t["p95_ms"]),
+            fmt(t["mean_ms"]),
+            fmt(t["median_ms"]),
+            fmt(t["p95_ms"]),
             f"{t['rate_hz']:.0f}",
         ]
         for name, t in timing["methods"].items()
@@ -243,8 +231,8 @@ def _timing_section(results: dict) -> str:
         "Every method at its operating point, called in turn on each frame of every run "
         "(one core, the same moment's machine load for all). The DATMO-like time includes "
         "its transform into the world frame, which the paper's figure excludes.\n\n"
-        + _table(header, rows)
-        + f"\n\nPVF / DATMO-like rate: {_f(timing['pvf_over_datmo_rate'], 2)}x (paper 1.88x).\n\n"
+        + table(header, rows)
+        + f"\n\nPVF / DATMO-like rate: {fmt(timing['pvf_over_datmo_rate'], 2)}x (paper 1.88x).\n\n"
         "![per-frame time](timing.png)"
     )
 
@@ -269,11 +257,11 @@ def _matching_section(results: dict) -> str:
             rows.append(
                 [
                     name.upper(),
-                    *(_f(m[c]["mean_chamfer_m2"]) for c in CONDITIONS),
-                    f"{_f(m['chamfer_reduction_pct'], 1)} % ({_f(paper.get(name), 1)} %)",
-                    f"{_f(m['oracle_chamfer_reduction_pct'], 1)} %",
-                    " / ".join(_f(100 * m[c]["mean_translation_error_m"], 2) for c in CONDITIONS),
-                    " / ".join(_f(m[c]["mean_rotation_error_deg"], 3) for c in CONDITIONS),
+                    *(fmt(m[c]["mean_chamfer_m2"]) for c in CONDITIONS),
+                    f"{fmt(m['chamfer_reduction_pct'], 1)} % ({fmt(paper.get(name), 1)} %)",
+                    f"{fmt(m['oracle_chamfer_reduction_pct'], 1)} %",
+                    " / ".join(fmt(100 * m[c]["mean_translation_error_m"], 2) for c in CONDITIONS),
+                    " / ".join(fmt(m[c]["mean_rotation_error_deg"], 3) for c in CONDITIONS),
                 ]
             )
         header = [
@@ -292,7 +280,7 @@ def _matching_section(results: dict) -> str:
             if seq != "all"
         )
         parts.append(
-            f"### {kind} ({matching['all']['events']} events)\n\n{_table(header, rows)}\n\n"
+            f"### {kind} ({matching['all']['events']} events)\n\n{table(header, rows)}\n\n"
             f"Per sequence: {per_seq}."
         )
     return "\n\n".join(parts)
@@ -315,7 +303,7 @@ def _detection_bound() -> str:
 
 def _reductions(per_matcher: dict) -> str:
     return ", ".join(
-        f"{name.upper()} {_f(m['chamfer_reduction_pct'], 1)} %" for name, m in per_matcher.items()
+        f"{name.upper()} {fmt(m['chamfer_reduction_pct'], 1)} %" for name, m in per_matcher.items()
     )
 
 
@@ -362,11 +350,11 @@ def _diagnosis_section(results: dict) -> str:
         )
         parts.append(
             f"### {seq}\n\n**Misses** ({total} beams)\n\n"
-            + _table(["stage that lost it", "beams", "share"], rows)
+            + table(["stage that lost it", "beams", "share"], rows)
             + f"\n\n**False alarms** ({fa_total} beams)\n\n"
-            + _table(["what it hit", "surface", "removed by", "beams", "share"], fa_rows)
+            + table(["what it hit", "surface", "removed by", "beams", "share"], fa_rows)
             + "\n\n**Cluster scores** (10th / 50th / 90th percentile)\n\n"
-            + _table(["clusters", "count", "P(θ)", "P(L)", "P(C_pv)"], score_rows)
+            + table(["clusters", "count", "P(θ)", "P(L)", "P(C_pv)"], score_rows)
             + f"\n\n{pictures}"
         )
     return "\n\n".join(parts)

@@ -29,9 +29,9 @@ import numpy as np
 from scaneval.geometry import compose, invert, scan_points, transform_points
 from scaneval.matching import MATCHERS
 from scaneval.metrics import chamfer_distance
-from twsb_sim.evaluation.methods import sensor_pose_2d
 from twsb_sim.evaluation.passes import beam_truth
 from twsb_sim.frame import Frame
+from twsb_sim.robot_inputs import sensor_pose_2d
 
 CONDITIONS: tuple[str, ...] = ("without", "with", "oracle")  # no filter, the PVF, the truth
 

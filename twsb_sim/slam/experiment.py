@@ -20,9 +20,9 @@ import numpy as np
 
 from scaneval.slam import score_trajectory
 from scaneval.tum import write_tum
-from twsb_sim.evaluation.methods import sensor_pose_2d
 from twsb_sim.frame import Frame
 from twsb_sim.labels import is_pitch_variation
+from twsb_sim.robot_inputs import sensor_pose_2d
 from twsb_sim.slam.methods import METHODS, removed_masks
 from twsb_sim.slam.recording import record_frames
 from twsb_sim.slam.sequences import SHIPPED_SEQUENCES, SlamSequence, hard_stop_sequence

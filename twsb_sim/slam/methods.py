@@ -16,11 +16,14 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
+from pvfilter import filter_entry
 from twsb_sim.frame import Frame
 from twsb_sim.labels import is_pitch_variation
+from twsb_sim.robot_inputs import robot_inputs
 from twsb_sim.scenario import Scenario
 
 METHODS: tuple[str, ...] = ("none", "pvf", "pvf_p04", "improved", "imu_gate", "truth_labels")
@@ -34,6 +37,14 @@ METHOD_TITLES = {
 }
 IMU_GATE_BAND_M = (0.05, 2.0)  # m above the floor: the gate keeps beams ending in here
 LOW_P_TH = 0.4  # the PVF's best-F1 threshold in twsb eval (precision 0.7-0.8, recall ~0.4)
+# method -> (registered filter, parameter values); "truth_labels" is the oracle, no filter
+FILTERS: dict[str, tuple[str, dict[str, Any]]] = {
+    "none": ("none", {}),
+    "pvf": ("paper", {}),
+    "pvf_p04": ("paper", {"p_th": LOW_P_TH}),
+    "improved": ("improved", {}),
+    "imu_gate": ("imu_gate", {"band_low_m": IMU_GATE_BAND_M[0], "band_high_m": IMU_GATE_BAND_M[1]}),
+}
 
 
 def removed_masks(method: str, frames: Sequence[Frame], scenario: Scenario) -> list[np.ndarray]:
@@ -42,35 +53,21 @@ def removed_masks(method: str, frames: Sequence[Frame], scenario: Scenario) -> l
     Args:
         method: one of :data:`METHODS`.
         frames: a run's frames, in time order.
-        scenario: the run's scenario (the robot's dimensions, for the IMU gate).
+        scenario: the run's scenario (the robot's dimensions, for the filters that use them).
 
     Returns:
         One bool mask per frame, True = removed.
     """
-    if method == "none":
-        return [np.zeros(len(f.scan), dtype=bool) for f in frames]
     if method == "truth_labels":
         return [is_pitch_variation(f.labels) for f in frames]
-    if method in ("pvf", "pvf_p04"):
-        from pvfilter import FilterParams, PitchVariationFilter
-
-        pvf = PitchVariationFilter(FilterParams(p_th=LOW_P_TH) if method == "pvf_p04" else None)
-        return [pvf.process(f.scan).removed for f in frames]
-    if method == "improved":
-        from pvfilter import ImprovedParams, ImprovedPitchVariationFilter
-
-        improved = ImprovedPitchVariationFilter(
-            ImprovedParams(lidar_height_m=scenario.robot.lidar_height_m)
-        )
-        return [improved.process(f.scan).removed for f in frames]
-    if method == "imu_gate":
-        from scaneval.baselines import ImuHeightGate
-        from twsb_sim.evaluation.methods import imu_pitch_roll
-
-        gate = ImuHeightGate(
-            scenario.robot.lidar_height_m,
-            band_m=IMU_GATE_BAND_M,
-            axle_height_m=scenario.robot.wheel_radius_m,
-        )
-        return [gate.process(f.scan, *imu_pitch_roll(f.truth.imu_quat)) for f in frames]
-    raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
+    if method not in FILTERS:
+        raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
+    name, fields = FILTERS[method]
+    entry = filter_entry(name)
+    geometry = {
+        "lidar_height_m": scenario.robot.lidar_height_m,
+        "axle_height_m": scenario.robot.wheel_radius_m,
+    }
+    scan_filter = entry.make(robot_geometry=geometry, **fields)
+    # each filter gets the inputs it needs: the improved filter runs on scans alone here
+    return [scan_filter.process(f.scan, **robot_inputs(f, entry.needs)).removed for f in frames]

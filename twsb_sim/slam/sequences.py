@@ -18,6 +18,7 @@ import numpy as np
 from twsb_sim.house import ROBOT_RADIUS_M, House, make_house, random_house
 from twsb_sim.house.spawn import Obstacles
 from twsb_sim.scenario import HouseChoice, Scenario, load_scenario
+from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.timeline import CommandPoint
 
 SHIPPED_SEQUENCES: tuple[str, ...] = ("house1_single", "house2_multi")
@@ -49,7 +50,6 @@ class SlamSequence:
 
 def shipped_sequence(name: str) -> SlamSequence:
     """A shipped scenario file as a sequence (``house1_single``, ``house2_multi``, ...)."""
-    from twsb_sim.cli import resolve_scenario  # the command line imports this package
 
     scenario = load_scenario(resolve_scenario(name))
     choice = scenario.house

@@ -17,9 +17,9 @@ import numpy as np
 from pvfilter import Scan
 from twsb_sim.dataset.episode import draw_episode
 from twsb_sim.dataset.randomization import Randomization
-from twsb_sim.evaluation.methods import imu_pitch_roll
 from twsb_sim.frame import Frame
 from twsb_sim.labels import BeamLabel, is_pitch_variation
+from twsb_sim.robot_inputs import imu_pitch_roll
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 from twsb_sim.sinks import NullSink

@@ -22,7 +22,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from pvfilter import ImprovedParams, ImprovedPitchVariationFilter
+from pvfilter import ImprovedParams, make_filter
 from scaneval.metrics import pr_curve
 from twsb_sim.tuning.data import TuningRun
 
@@ -69,13 +69,11 @@ def sweep(
     counts = np.zeros((len(THRESHOLDS), 3), dtype=np.int64)
     static = np.zeros(len(THRESHOLDS) + 1, dtype=np.int64)  # removed per threshold, total
     for run in runs:
-        robot = dataclasses.replace(
-            params, lidar_height_m=run.lidar_height_m, axle_height_m=run.axle_height_m
-        )
-        pvf = ImprovedPitchVariationFilter(robot)
+        geometry = {"lidar_height_m": run.lidar_height_m, "axle_height_m": run.axle_height_m}
+        pvf = make_filter("improved", params, robot_geometry=geometry)
         for k, scan in enumerate(run.scans):
-            attitude = run.attitude[k] if imu else (None, None)
-            scores = pvf.process(scan, *attitude).scores
+            pitch, roll = run.attitude[k] if imu else (None, None)
+            scores = pvf.process(scan, pitch_rad=pitch, roll_rad=roll).scores
             removed = (scores[None, :] > values) & run.finite[k]
             tp = np.count_nonzero(removed & run.positive[k], axis=1)
             fn = np.count_nonzero(run.positive[k]) - tp

@@ -11,9 +11,12 @@ from pvfilter import (
     FilterResult,
     ImprovedParams,
     ImprovedPitchVariationFilter,
+    ImprovedResult,
     Scan,
+    ScanFilter,
     StampWentBackWarning,
 )
+from pvfilter.synthetic import room_sequence
 
 from .conftest import HEIGHT_M, pitch_event, room_scan
 
@@ -28,25 +31,41 @@ def drive(frames=40, speed=0.6, event=(10, 8, 8.0), **kwargs):
         yield room_scan(pose, pitch(k), stamp=0.1 * k, seed=k, extra=CLUTTER, **kwargs), pitch(k)
 
 
-def run(pvf, frames, imu=False):
+def run(pvf, frames, imu=False, scans=None):
     results, truth = [], []
     for (scan, on_floor), pitch in frames:
-        results.append(pvf.process(scan, pitch) if imu else pvf.process(scan))
+        results.append(pvf.process(scan, pitch_rad=pitch if imu else None))
         truth.append(on_floor)
+        if scans is not None:
+            scans.append(scan)
     return results, truth
 
 
 def test_result_follows_the_contract():
     (scan, _), _ = next(drive(frames=1))
-    result = ImprovedPitchVariationFilter().process(scan)
-    assert isinstance(result, FilterResult)
+    pvf = ImprovedPitchVariationFilter()
+    assert isinstance(pvf, ScanFilter)
+    result = pvf.process(scan)
+    assert isinstance(result, ImprovedResult) and isinstance(result, FilterResult)
     assert result.removed.dtype == bool and result.removed.shape == (len(scan),)
     assert result.scores.dtype == np.float64 and result.scores.shape == (len(scan),)
     assert isinstance(result.scan, Scan) and len(result.scan) == len(scan)
+    assert len(result.clusters) == len(result.lines.clusters) > 0
     for record in result.clusters:
-        assert {"indices", "centroid", "v_c", "p_theta", "p_likelihood", "p_pv"} <= set(
+        assert {"indices", "centroid", "passes_gates", "share_new", "score", "detected"} == set(
             f.name for f in dataclasses.fields(record)
-        )
+        ) - {"size"}
+
+
+def test_the_clusters_keep_the_points_of_every_valid_beam():
+    # the filter leaves what may move out of its next ego-motion fit; that must not reach
+    # the clusters it has already handed out in the result
+    pvf = ImprovedPitchVariationFilter()
+    for scan in room_sequence(60).scans:
+        points = pvf.process(scan).lines.clusters.points
+        valid = scan.valid_mask()
+        assert np.isfinite(points[valid]).all()
+        np.testing.assert_array_equal(points[valid], scan.points()[valid])
 
 
 def precision(removed, positive):
@@ -55,7 +74,8 @@ def precision(removed, positive):
 
 def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
     params = ImprovedParams(lidar_height_m=HEIGHT_M)
-    results, truth = run(ImprovedPitchVariationFilter(params), drive())
+    scans = []
+    results, truth = run(ImprovedPitchVariationFilter(params), drive(), scans=scans)
     removed, positive = np.array([r.removed for r in results]), np.array(truth)
     event_frames = np.flatnonzero(positive.any(axis=1))
     assert event_frames.size >= 5
@@ -64,11 +84,11 @@ def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
     for k in event_frames[1:]:
         assert (removed[k] & positive[k]).sum() >= 0.9 * positive[k].sum(), k
     assert precision(removed, positive) > 0.97
-    for result, on_floor in zip(results, truth, strict=True):
+    for result, scan, on_floor in zip(results, scans, truth, strict=True):
         assert np.isnan(result.scan.ranges[result.removed]).all()
         kept = ~result.removed
         assert (result.scores[result.removed] > 0.5).all()
-        np.testing.assert_array_equal(result.scan.ranges[kept], result.scan.ranges[kept])
+        np.testing.assert_array_equal(result.scan.ranges[kept], scan.ranges[kept])
         assert on_floor.shape == result.removed.shape
 
 

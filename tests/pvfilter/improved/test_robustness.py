@@ -51,7 +51,7 @@ def test_any_ranges_keep_the_length_and_remove_only_valid_beams(sequence, imu):
     pvf = ImprovedPitchVariationFilter(ImprovedParams(min_points=2))
     for k, ranges in enumerate(sequence):
         scan = scan_of(ranges, stamp=0.1 * k)
-        result = pvf.process(scan, 0.1 if imu else None)
+        result = pvf.process(scan, pitch_rad=0.1 if imu else None)
         assert len(result.scan) == len(ranges) and result.removed.shape == (len(ranges),)
         assert not (result.removed & ~scan.valid_mask()).any()
         nan_in = np.isnan(scan.ranges)

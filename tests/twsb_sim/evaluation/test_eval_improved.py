@@ -10,8 +10,7 @@ import pytest
 from pvfilter import ImprovedParams, save_params
 from pvfilter.synthetic import cross_line, room_segments
 from twsb_sim.cli import main
-from twsb_sim.evaluation.improved import one_pass
-from twsb_sim.evaluation.methods import ImprovedMethod
+from twsb_sim.evaluation.improved import improved_filter, one_pass
 from twsb_sim.evaluation.passes import sweep_counts
 from twsb_sim.evaluation.recording import Recording, sequence_in_house, with_robot
 from twsb_sim.summary import RunSummary
@@ -31,8 +30,12 @@ def test_one_pass_equals_a_fresh_filter_per_threshold(make_frame):
     floors = [None, None, cross_line(1.2, 1.5), cross_line(1.0, 1.5), None, None]
     recording = recording_of([make_frame(k, ROOM, f) for k, f in enumerate(floors)])
     thresholds = (0.0, 0.3, 0.5, 0.9)
-    counts, removed, total, seconds = one_pass(recording, ImprovedMethod(), thresholds, 0.5)
-    fresh = sweep_counts(recording, lambda v: ImprovedMethod(ImprovedParams(p_th=v)), thresholds)
+    counts, removed, total, seconds = one_pass(
+        recording, improved_filter(recording), thresholds, 0.5
+    )
+    fresh = sweep_counts(
+        recording, lambda v: improved_filter(recording, ImprovedParams(p_th=v)), thresholds
+    )
     np.testing.assert_array_equal(counts, fresh)
     assert counts[2, 0] > 0 and removed == 0 and total > 0 and seconds.shape == (6,)
 

@@ -5,18 +5,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pvfilter import FilterParams, PitchVariationFilter
+from pvfilter import FilterParams, FilterResult, PitchVariationFilter
 from pvfilter.synthetic import cross_line, room_segments
 from scaneval.metrics import pr_curve
-from twsb_sim.evaluation.methods import DatmoMethod, PvfMethod
 from twsb_sim.evaluation.passes import (
     confusion,
     operating_pass,
-    run_method,
+    run_filter,
     score_sweep_counts,
     sweep_counts,
 )
 from twsb_sim.evaluation.recording import Recording
+from twsb_sim.frame_filter import frame_filter
 from twsb_sim.labels import is_pitch_variation
 from twsb_sim.summary import RunSummary
 
@@ -36,26 +36,30 @@ def recording_of(frames) -> Recording:
     )
 
 
-class ScoreMethod:
-    """Removes the beams whose made-up score exceeds a threshold (floor 0.9, the wall
-    straight ahead 0.6, everything else 0.1); keeps no state."""
+class ScoreFilter:
+    """A frame filter removing the beams whose made-up score exceeds a threshold (floor
+    0.9, the wall straight ahead 0.6, everything else 0.1); keeps no state."""
 
-    name = "score"
+    label = "score"
 
     def __init__(self, threshold: float = 0.0) -> None:
         self.threshold = threshold
-        self.scores = np.zeros(0)
 
     def reset(self) -> None:
         pass
 
-    def process(self, frame) -> np.ndarray:
+    def process(self, frame) -> FilterResult:
         ahead = np.abs(frame.scan.angles()) < 0.2
-        self.scores = np.where(is_pitch_variation(frame.labels), 0.9, np.where(ahead, 0.6, 0.1))
-        return self.scores > self.threshold
+        scores = np.where(is_pitch_variation(frame.labels), 0.9, np.where(ahead, 0.6, 0.1))
+        return FilterResult(frame.scan, scores > self.threshold, scores)
 
-    def beam_scores(self) -> np.ndarray:
-        return self.scores
+
+def datmo(speed):
+    return frame_filter("datmo", "DATMO-like", speed_threshold_mps=speed)
+
+
+def paper(p_th=0.8):
+    return frame_filter("paper", "PVF", p_th=p_th)
 
 
 @pytest.fixture
@@ -72,7 +76,7 @@ def test_sweep_counts_match_a_hand_count(floor_then_room):
         int(((np.abs(f.scan.angles()) < 0.2) & ~is_pitch_variation(f.labels)).sum()) for f in frames
     ]
     finite = sum(int(np.isfinite(f.scan.ranges).sum()) for f in frames)
-    counts = sweep_counts(floor_then_room, ScoreMethod, [0.0, 0.5, 0.95])
+    counts = sweep_counts(floor_then_room, ScoreFilter, [0.0, 0.5, 0.95])
     assert counts.tolist() == [
         [floor, finite - floor, 0],
         [floor, sum(ahead), 0],
@@ -85,10 +89,10 @@ def test_sweep_counts_match_a_hand_count(floor_then_room):
     assert curve.auc == pytest.approx((1.0 + p1) / 2.0)
 
 
-def test_a_score_sweep_equals_a_fresh_method_per_threshold(floor_then_room):
+def test_a_score_sweep_equals_a_fresh_filter_per_threshold(floor_then_room):
     thresholds = [0.0, 0.3, 0.7, 1.0]
-    one_pass = score_sweep_counts(floor_then_room, ScoreMethod(), thresholds)
-    fresh = sweep_counts(floor_then_room, ScoreMethod, thresholds)
+    one_pass = score_sweep_counts(floor_then_room, ScoreFilter(), thresholds)
+    fresh = sweep_counts(floor_then_room, ScoreFilter, thresholds)
     assert np.array_equal(one_pass, fresh)
 
 
@@ -97,8 +101,8 @@ def test_the_datmo_speed_sweep_in_one_pass_equals_a_fresh_tracker_per_speed(make
     frames = [make_frame(k, np.concatenate((ROOM, box(1.0 + 0.05 * k)))) for k in range(12)]
     recording = recording_of(frames)
     speeds = [0.05, 0.1, 0.3, 0.45, 0.6, 1.0]
-    one_pass = score_sweep_counts(recording, DatmoMethod(0.0), speeds)
-    fresh = sweep_counts(recording, lambda v: DatmoMethod(v), speeds)
+    one_pass = score_sweep_counts(recording, datmo(0.0), speeds)
+    fresh = sweep_counts(recording, datmo, speeds)
     assert np.array_equal(one_pass, fresh)
     assert one_pass[:, 1].max() > 0, "the moving box (0.5 m/s) is removed at low speeds"
 
@@ -109,9 +113,8 @@ def test_the_p_th_sweep_runs_the_filter_afresh_per_value(make_frame):
         floor = cross_line(1.0 + 0.1 * k, 0.6) if k in (3, 4) else None
         frames.append(make_frame(k, ROOM, floor))
     recording = recording_of(frames)
-    make = lambda p: PvfMethod(FilterParams(p_th=p))  # noqa: E731
     values = [0.0, 0.5, 0.8, 0.95]
-    counts = sweep_counts(recording, make, values)
+    counts = sweep_counts(recording, paper, values)
     # each value's counts equal a filter run alone at that value
     for value, row in zip(values, counts, strict=True):
         alone = PitchVariationFilter(FilterParams(p_th=value))
@@ -122,12 +125,12 @@ def test_the_p_th_sweep_runs_the_filter_afresh_per_value(make_frame):
 
 
 def test_the_timed_pass_counts_like_separate_runs_and_times_every_frame(floor_then_room):
-    methods = {"PVF": PvfMethod(), "score": ScoreMethod(0.5)}
+    methods = {"PVF": paper(), "score": ScoreFilter(0.5)}
     timed = operating_pass(floor_then_room, methods, "PVF")
     n = len(floor_then_room.frames)
     for name, method in methods.items():
         assert timed.seconds[name].shape == (n,)
         assert (timed.seconds[name] > 0).all()
-        assert timed.counts[name].tolist() == run_method(method, floor_then_room.frames).tolist()
+        assert timed.counts[name].tolist() == run_filter(method, floor_then_room.frames).tolist()
         assert timed.removed[name].shape == (n, len(floor_then_room.frames[0].scan))
     assert len(timed.pvf_results) == n

@@ -36,47 +36,24 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from pvfilter.params import FilterParams
+from pvfilter.clusters import ClusterSet
+from pvfilter.paper.params import FilterParams
 from pvfilter.scan import Scan
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class ClusterSet:
-    """The seed clusters S_C^t of one scan and the scan's KD-tree T_kd^t.
+class SeedClusters(ClusterSet):
+    """The seed clusters S_C^t of one scan (see :class:`pvfilter.ClusterSet`) and its KD-tree.
 
     Attributes:
-        scan: the scan that was clustered.
-        points: sensor-frame point of every beam, m, shape ``(n, 2)``; NaN where invalid.
-        labels: cluster id of every beam, shape ``(n,)``; -1 where the beam is invalid or
-            its cluster was smaller than ``m_th``.
-        sizes: points per cluster, shape ``(k,)``.
-        centroids: mean point (x_C, y_C) per cluster, m, shape ``(k, 2)``.
-        variances: population variances (v_x, v_y) of each cluster's points, m^2,
-            shape ``(k, 2)``.
-        tree: KD-tree over the scan's valid points, the likelihood field for the next
-            scan (it may hold no points); None from filters that need none (the
-            improved filter's segments).
+        tree: KD-tree T_kd^t over the scan's valid points, in beam order: the likelihood
+            field of the next scan (it may hold no points).
     """
 
-    scan: Scan
-    points: np.ndarray
-    labels: np.ndarray
-    sizes: np.ndarray
-    centroids: np.ndarray
-    variances: np.ndarray
-    tree: cKDTree | None
-
-    def __len__(self) -> int:
-        return int(self.sizes.size)
-
-    def beam_indices(self) -> list[np.ndarray]:
-        """Ascending beam indices of every cluster, in cluster order."""
-        order = np.argsort(self.labels, kind="stable")
-        ends = np.cumsum(self.sizes)
-        return np.split(order[order.size - ends[-1] :], ends[:-1]) if len(self) else []
+    tree: cKDTree
 
 
-def cluster_scan(scan: Scan, params: FilterParams) -> ClusterSet:
+def cluster_scan(scan: Scan, params: FilterParams) -> SeedClusters:
     """Cluster a scan's valid points (``d_th``, ``m_th``, ``clustering``) and build its KD-tree.
 
     Args:
@@ -99,7 +76,7 @@ def cluster_scan(scan: Scan, params: FilterParams) -> ClusterSet:
     labels = np.full(len(scan), -1, dtype=np.intp)
     labels[valid] = kept
     sizes, centroids, variances = _moments(valid_points, kept)
-    return ClusterSet(scan, points, labels, sizes, centroids, variances, tree)
+    return SeedClusters(scan, points, labels, sizes, centroids, variances, tree)
 
 
 def covers_full_turn(scan: Scan) -> bool:

@@ -1,11 +1,11 @@
-"""The filter's parameters, named with the paper's symbols (Table I defaults)."""
+"""The paper filter's parameters, named with the paper's symbols (Table I defaults)."""
 
 from __future__ import annotations
 
 import dataclasses
-import math
-import numbers
 from typing import Literal
+
+from pvfilter.checks import check_flag, check_integer, check_number
 
 ClusteringMode = Literal["scan_order", "radius"]
 CLUSTERING_MODES: tuple[str, ...] = ("scan_order", "radius")
@@ -65,19 +65,17 @@ class FilterParams:
     tracking: bool = True
 
     def __post_init__(self) -> None:
-        _check_number("d_th", self.d_th, lower=0.0, unit="m")
-        integral = isinstance(self.m_th, numbers.Integral) and not isinstance(self.m_th, bool)
-        if not integral or self.m_th < 1:
-            raise ValueError(f"m_th: must be an integer >= 1, got {self.m_th!r}")
-        _check_number("v_th", self.v_th, lower=0.0, upper=1.0, closed=True)
-        _check_number("sigma_theta", self.sigma_theta, lower=0.0)
-        _check_number("sigma_l", self.sigma_l, lower=0.0, unit="m")
-        _check_number("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
-        _check_number("d_track", self.d_track, lower=0.0, unit="m", infinite=True)
-        _check_number("d_min", self.d_min, lower=0.0, unit="m", closed=True)
-        _check_number("d_max", self.d_max, lower=self.d_min, unit="m", infinite=True, below="d_min")
-        _check_number("size_ratio_min", self.size_ratio_min, lower=0.0)
-        _check_number(
+        check_number("d_th", self.d_th, lower=0.0, unit="m")
+        check_integer("m_th", self.m_th, 1)
+        check_number("v_th", self.v_th, lower=0.0, upper=1.0, closed=True)
+        check_number("sigma_theta", self.sigma_theta, lower=0.0)
+        check_number("sigma_l", self.sigma_l, lower=0.0, unit="m")
+        check_number("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
+        check_number("d_track", self.d_track, lower=0.0, unit="m", infinite=True)
+        check_number("d_min", self.d_min, lower=0.0, unit="m", closed=True)
+        check_number("d_max", self.d_max, lower=self.d_min, unit="m", infinite=True, below="d_min")
+        check_number("size_ratio_min", self.size_ratio_min, lower=0.0)
+        check_number(
             "size_ratio_max",
             self.size_ratio_max,
             lower=self.size_ratio_min,
@@ -88,34 +86,4 @@ class FilterParams:
         if self.clustering not in CLUSTERING_MODES:
             choices = ", ".join(CLUSTERING_MODES)
             raise ValueError(f"clustering: must be one of {choices}, got {self.clustering!r}")
-        if not isinstance(self.tracking, bool):
-            raise ValueError(f"tracking: must be true or false, got {self.tracking!r}")
-
-
-def _check_number(
-    name: str,
-    value: object,
-    *,
-    lower: float,
-    upper: float = math.inf,
-    unit: str = "",
-    closed: bool = False,
-    infinite: bool = False,
-    below: str = "",
-) -> None:
-    """Raise ``ValueError("name: ...")`` unless ``value`` is a real number in range.
-
-    The lower bound is exclusive unless ``closed``; the upper bound is inclusive; ``inf``
-    is accepted only where ``infinite`` (a check that can be switched off). ``below``
-    names the field the lower bound comes from, if any.
-    """
-    unit = f" {unit}" if unit else ""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name}: must be a number, got {value!r}")
-    if math.isnan(value) or (math.isinf(value) and not infinite):
-        raise ValueError(f"{name}: must be finite, got {value}")
-    if not (value >= lower if closed else value > lower):
-        bound = f"{below} ({lower:g}{unit})" if below else f"{lower:g}{unit}"
-        raise ValueError(f"{name}: must be {'>=' if closed else '>'} {bound}, got {value}")
-    if value > upper:
-        raise ValueError(f"{name}: must be <= {upper:g}{unit}, got {value}")
+        check_flag("tracking", self.tracking)

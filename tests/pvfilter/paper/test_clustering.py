@@ -9,7 +9,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from pvfilter import FilterParams, Scan
-from pvfilter.clustering import (
+from pvfilter.paper.clustering import (
     cluster_scan,
     covers_full_turn,
     drop_small_clusters,

@@ -7,7 +7,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from pvfilter import FilterParams, cluster_scan, detect_clusters
-from pvfilter.detection import (
+from pvfilter.paper.detection import (
     angular_confidence,
     cluster_likelihood,
     perpendicular_variance_ratio,

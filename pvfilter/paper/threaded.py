@@ -3,7 +3,7 @@
 One thread clusters scan t and runs Algorithm 1 while the other tracks scan t-1 and
 removes its clusters. The two halves share no state (detection keeps the previous
 scan's KD-tree, tracking keeps the queue), and each thread sees the scans in order, so
-the results are exactly those of :class:`~pvfilter.pipeline.PitchVariationFilter`.
+the results are exactly those of :class:`~pvfilter.paper.PitchVariationFilter`.
 
 With CPython's global interpreter lock the gain is limited to the time numpy and scipy
 spend outside it; the form is here because the paper describes it, and for callers that
@@ -16,8 +16,8 @@ import queue
 import threading
 from collections.abc import Iterable, Iterator
 
-from pvfilter.params import FilterParams
-from pvfilter.pipeline import FilterResult, PitchVariationFilter
+from pvfilter.paper.filter import PaperResult, PitchVariationFilter
+from pvfilter.paper.params import FilterParams
 from pvfilter.scan import Scan
 
 _RESET = object()  # a marker passed down the pipeline in scan order
@@ -62,7 +62,7 @@ class ThreadedPitchVariationFilter:
         self._scans.put(scan)
         self._pending += 1
 
-    def result(self, timeout: float | None = None) -> FilterResult:
+    def result(self, timeout: float | None = None) -> PaperResult:
         """The next result, in submission order.
 
         Raises:
@@ -75,12 +75,15 @@ class ThreadedPitchVariationFilter:
             raise item
         return item
 
-    def process(self, scan: Scan) -> FilterResult:
-        """Filter one scan and wait for its result (no overlap; same API as sequential)."""
+    def process(self, scan: Scan, **robot_inputs: object) -> PaperResult:
+        """Filter one scan and wait for its result (no overlap; same API as sequential).
+
+        The robot inputs of :class:`pvfilter.ScanFilter` are accepted and ignored.
+        """
         self.submit(scan)
         return self.result()
 
-    def process_stream(self, scans: Iterable[Scan]) -> Iterator[FilterResult]:
+    def process_stream(self, scans: Iterable[Scan]) -> Iterator[PaperResult]:
         """Filter a sequence with both threads busy; yields one result per scan, in order."""
         for scan in scans:
             if self._pending >= self.max_pending:

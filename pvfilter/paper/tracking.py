@@ -22,8 +22,8 @@ import dataclasses
 
 import numpy as np
 
-from pvfilter.detection import Detection
-from pvfilter.params import FilterParams
+from pvfilter.paper.detection import Detection
+from pvfilter.paper.params import FilterParams
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -3,8 +3,8 @@
 import numpy as np
 
 from pvfilter import FilterParams, PitchVariationFilter, TrackingQueue
+from pvfilter.paper.tracking import associate
 from pvfilter.synthetic import cross_line, room_segments, segment_scan
-from pvfilter.tracking import associate
 
 WALLS = room_segments(5.0, 5.0, 3.0, 3.0)
 

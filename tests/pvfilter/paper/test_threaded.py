@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from pvfilter import FilterParams, PitchVariationFilter
+from pvfilter.paper.threaded import ThreadedPitchVariationFilter
 from pvfilter.synthetic import cross_line, room_segments, segment_scan
-from pvfilter.threaded import ThreadedPitchVariationFilter
 
 
 def random_sequence(count, seed):

@@ -1,4 +1,4 @@
-"""The Pitch Variation Filter: cluster -> detect -> track -> remove, one scan at a time.
+"""The paper's Pitch Variation Filter: cluster -> detect -> track -> remove, one scan at a time.
 
 History between scans is the previous scan's KD-tree (the likelihood field) and the
 tracking queue, both in sensor-frame coordinates. Robustness, by design:
@@ -8,43 +8,26 @@ tracking queue, both in sensor-frame coordinates. Robustness, by design:
 - a scan whose beam count or angles differ from the previous one is processed normally:
   the history holds points and centroids, not beam indices, so it stays meaningful;
 - a stamp earlier than the previous scan's resets the history (the scan starts a new
-  sequence) and emits a :class:`StampWentBackWarning`; equal stamps are accepted.
+  sequence) and emits a :class:`pvfilter.StampWentBackWarning`; equal stamps are accepted.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
-import warnings
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
-from pvfilter.clustering import cluster_scan
-from pvfilter.detection import Detection, detect_clusters
-from pvfilter.params import FilterParams
+from pvfilter.clusters import ClusterView
+from pvfilter.paper.clustering import cluster_scan
+from pvfilter.paper.detection import Detection, detect_clusters
+from pvfilter.paper.params import FilterParams
+from pvfilter.paper.tracking import Tracker
+from pvfilter.result import FilterResult, without_removed
 from pvfilter.scan import Scan
-from pvfilter.tracking import Tracker
-
-
-class StampWentBackWarning(UserWarning):
-    """A scan's stamp was earlier than the previous scan's; the filter's history was reset."""
-
-
-def stamp_went_back(stamp: float, previous: float | None, stacklevel: int) -> bool:
-    """True (with a :class:`StampWentBackWarning`) when ``stamp`` is earlier than ``previous``.
-
-    Both filters reset their history then: scans out of order cannot be compared.
-    """
-    if previous is None or stamp >= previous:
-        return False
-    warnings.warn(
-        f"scan stamp {stamp} s is earlier than the previous {previous} s; "
-        "the filter's history was reset",
-        StampWentBackWarning,
-        stacklevel=stacklevel + 1,
-    )
-    return True
+from pvfilter.stamps import stamp_went_back
 
 
 @dataclasses.dataclass(frozen=True, eq=False)  # holds an array: no field-wise ==
@@ -80,21 +63,18 @@ class ClusterRecord:
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
-class FilterResult:
-    """The filter's output for one scan.
+class PaperResult(FilterResult):
+    """The paper filter's output for one scan.
 
     Attributes:
         scan: the input scan with removed beams set to NaN (same length).
-        removed: bool per beam: True where the beam is a pitch-variation point.
+        removed: bool per beam: its cluster is in the tracking queue Q^t.
         scores: P(C_pv) of the beam's cluster per beam; 0 where the beam is in no
             cluster or its cluster was skipped by the ``v_th`` gate.
-        detection: Algorithm 1's per-cluster arrays (and the clusters themselves).
+        detection: Algorithm 1's per-cluster arrays (and the seed clusters themselves).
         tracked: bool per cluster: continued a queued cluster (Algorithm 2).
     """
 
-    scan: Scan
-    removed: np.ndarray
-    scores: np.ndarray
     detection: Detection
     tracked: np.ndarray
 
@@ -113,8 +93,13 @@ class FilterResult:
         )
         return tuple(ClusterRecord(i, tuple(c), *rest) for i, c, *rest in columns)
 
+    def cluster_view(self) -> ClusterView:
+        """The seed clusters, P(C_pv), detected and tracked, for a viewer."""
+        d = self.detection
+        return ClusterView(d.clusters, d.p_pv, d.detected, np.asarray(self.tracked, dtype=bool))
 
-def remove_queued(detection: Detection, tracked: np.ndarray) -> FilterResult:
+
+def remove_queued(detection: Detection, tracked: np.ndarray) -> PaperResult:
     """Set the beams of every queued (detected or tracked) cluster to NaN.
 
     Args:
@@ -125,9 +110,8 @@ def remove_queued(detection: Detection, tracked: np.ndarray) -> FilterResult:
     # label -1 (no cluster) indexes the appended last entry: not removed, score 0
     removed = np.append(detection.detected | tracked, False)[labels]
     scores = np.append(np.nan_to_num(detection.p_pv, nan=0.0), 0.0)[labels]
-    scan = detection.clusters.scan
-    filtered = scan.with_ranges(np.where(removed, np.nan, scan.ranges))
-    return FilterResult(filtered, removed, scores, detection, tracked)
+    filtered = without_removed(detection.clusters.scan, removed)
+    return PaperResult(filtered, removed, scores, detection, tracked)
 
 
 class PitchVariationFilter:
@@ -149,11 +133,21 @@ class PitchVariationFilter:
         self._new_sequence = True
         self._previous_stamp = None
 
-    def process(self, scan: Scan) -> FilterResult:
+    def process(
+        self,
+        scan: Scan,
+        *,
+        pitch_rad: float | None = None,
+        roll_rad: float | None = None,
+        pose_sensor_in_odom: ArrayLike | None = None,
+    ) -> PaperResult:
         """Filter one scan; call once per scan, in time order.
 
         Args:
             scan: the scan at time t.
+            pitch_rad: ignored: the paper's filter uses the scan alone.
+            roll_rad: ignored.
+            pose_sensor_in_odom: ignored.
 
         Returns:
             The filtered scan, the removed-beam mask, per-beam scores, per-cluster records.
@@ -172,7 +166,7 @@ class PitchVariationFilter:
         self._previous_tree = clusters.tree
         return detection
 
-    def track_and_remove(self, detection: Detection) -> FilterResult:
+    def track_and_remove(self, detection: Detection) -> PaperResult:
         """Second half (tracking module and removal): the paper's second thread."""
         # track (Algorithm 2): follow queued clusters; detections join the queue
         if self.params.tracking:

@@ -2,7 +2,8 @@
 
 Per cluster C of the scan at time t:
 
-- eq. 1, perpendicular variance ratio ``v_C = v_y / (v_x + v_y)``; clusters with
+- eq. 1, perpendicular variance ratio ``v_C = v_y / (v_x + v_y)``
+  (:func:`pvfilter.clusters.perpendicular_variance_ratio`); clusters with
   ``v_C < v_th`` are skipped (Algorithm 1, line 4);
 - eq. 2, angular confidence ``P(theta_C) = exp(-cos^2(theta_C) / (2 sigma_theta^2))``,
   with ``theta_C`` the bearing of the centroid from the sensor origin;
@@ -26,20 +27,9 @@ import dataclasses
 import numpy as np
 from scipy.spatial import cKDTree
 
-from pvfilter.clustering import ClusterSet
-from pvfilter.params import FilterParams
-
-
-def perpendicular_variance_ratio(variances: np.ndarray) -> np.ndarray:
-    """Eq. 1: ``v_C = v_y / (v_x + v_y)`` per cluster; 0 where both variances are 0.
-
-    Args:
-        variances: (v_x, v_y) per cluster, m^2, shape ``(k, 2)``.
-    """
-    total = variances.sum(axis=1)
-    ratio = np.zeros(len(variances))
-    np.divide(variances[:, 1], total, out=ratio, where=total > 0.0)
-    return ratio
+from pvfilter.clusters import perpendicular_variance_ratio
+from pvfilter.paper.clustering import SeedClusters
+from pvfilter.paper.params import FilterParams
 
 
 def angular_confidence(centroids: np.ndarray, sigma_theta: float) -> np.ndarray:
@@ -90,7 +80,7 @@ class Detection:
             the tracker forgets its queue.
     """
 
-    clusters: ClusterSet
+    clusters: SeedClusters
     v_c: np.ndarray
     p_theta: np.ndarray
     p_likelihood: np.ndarray
@@ -100,7 +90,7 @@ class Detection:
 
 
 def detect_clusters(
-    clusters: ClusterSet,
+    clusters: SeedClusters,
     previous_tree: cKDTree | None,
     params: FilterParams,
     new_sequence: bool = False,

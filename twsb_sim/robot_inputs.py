@@ -1,0 +1,53 @@
+"""The robot inputs of a simulated frame, as a filter receives them (:mod:`pvfilter.contract`).
+
+What a real robot would hand its filter: the attitude from its IMU (pitch positive nose
+down, roll positive left side up) and the LiDAR's pose in the odom frame. Today the IMU
+attitude is the simulated IMU's orientation and the pose is the sensor's true pose (the
+world frame serves as odom): both noise-free.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from twsb_sim.frame import Frame, RobotTruth
+
+
+def sensor_pose_2d(truth: RobotTruth) -> np.ndarray:
+    """The LiDAR's true SE(2) pose in the world: (x m, y m, heading of its x axis rad)."""
+    rotation = truth.rotation_sensor_to_world
+    x, y = truth.position_sensor_in_world[:2]
+    return np.array([x, y, math.atan2(rotation[1, 0], rotation[0, 0])])
+
+
+def imu_pitch_roll(imu_quat: np.ndarray) -> tuple[float, float]:
+    """Pitch (positive = nose down) and roll, rad, of the IMU's orientation (w, x, y, z).
+
+    Z-Y-X Euler angles of REP-103: pitch about the body's y axis, roll about its x axis.
+    """
+    w, x, y, z = (float(v) for v in imu_quat)
+    sin_pitch = 2.0 * (w * y - z * x)
+    pitch = math.asin(max(-1.0, min(1.0, sin_pitch)))
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    return pitch, roll
+
+
+def robot_inputs(frame: Frame, names: Iterable[str]) -> dict[str, Any]:
+    """The robot inputs ``names`` (of :data:`pvfilter.ROBOT_INPUTS`) for ``frame``'s scan.
+
+    Raises:
+        ValueError: a name that is not a robot input.
+    """
+    inputs: dict[str, Any] = {}
+    for name in names:
+        if name in ("pitch_rad", "roll_rad"):
+            inputs["pitch_rad"], inputs["roll_rad"] = imu_pitch_roll(frame.truth.imu_quat)
+        elif name == "pose_sensor_in_odom":
+            inputs[name] = sensor_pose_2d(frame.truth)
+        else:
+            raise ValueError(f"robot input: unknown {name!r}")
+    return inputs
