@@ -316,3 +316,14 @@ def test_logging_off_writes_no_file_and_the_run_works(short_scenario, tmp_path, 
 def test_contradictory_flags_are_a_usage_error(short_scenario, capsys):
     assert main(["run", str(short_scenario), "--quiet", "--headless", "--spawn"]) == EXIT_USAGE
     assert "--headless" in capsys.readouterr().err
+
+
+def test_the_improved_filter_s_clusters_are_logged_too(tmp_path):
+    from rerun.chunk import RrdReader
+
+    from twsb_sim.cli import main
+
+    path = tmp_path / "improved.rrd"
+    assert main(["run", "hard_stop", "--quiet", "--filter", "improved", "--rrd", str(path)]) == 0
+    entities = {chunk.entity_path for chunk in RrdReader(path).stream().to_chunks()}
+    assert any("clusters" in str(entity) for entity in entities), sorted(map(str, entities))

@@ -129,6 +129,11 @@ class FrameBatch:
         """The frames whose filter result has the attribute ``has``."""
         return self.subset([i for i, r in enumerate(self.results) if hasattr(r, has)])
 
+    def with_clusters(self) -> FrameBatch:
+        """The frames whose filter result has clusters (``result.cluster_view()``)."""
+        views = [getattr(r, "cluster_view", lambda: None)() for r in self.results]
+        return self.subset([i for i, view in enumerate(views) if view is not None])
+
     def without_results(self, has: str = "removed") -> FrameBatch:
         """The other frames."""
         return self.subset([i for i, r in enumerate(self.results) if not hasattr(r, has)])

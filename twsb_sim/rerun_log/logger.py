@@ -189,7 +189,7 @@ class RerunLogger:
             log_filter_decisions(rec, decided)
         if len(unfiltered := batch.without_results("removed")):  # no decision to show
             log_sensor_labels(rec, unfiltered)
-        if len(clustered := batch.with_results("detection")):  # the PVF's clusters
+        if len(clustered := batch.with_clusters()):  # the filter's clusters, if it has any
             log_clusters(rec, clustered)
         self._frames_logged = int(batch.indices[-1]) + 1
         self._last_t_s = float(batch.stamps_s[-1])

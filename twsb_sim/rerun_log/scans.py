@@ -119,7 +119,7 @@ def log_filter_decisions(rec: rr.RecordingStream, batch: FrameBatch) -> None:
 
 
 def _removed_cluster_labels(ids: np.ndarray, p_pv: np.ndarray, detected: np.ndarray) -> list[str]:
-    """``#id P=P(C_pv) detected|tracked`` for each removed cluster."""
+    """``#id P=<score> detected|tracked`` for each removed cluster (the paper's P(C_pv))."""
     return [
         f"#{k} P={'-' if np.isnan(p) else f'{p:.2f}'} {'detected' if d else 'tracked'}"
         for k, p, d in zip(ids.tolist(), p_pv.tolist(), detected.tolist(), strict=True)
@@ -134,21 +134,21 @@ def log_clusters(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     get a box, red when detected in this scan and orange when tracked from the last one,
     and a label at the centroid (``#id P=P(C_pv) detected|tracked``; box labels would be
     misplaced by the sensor view's turned frame). Cluster ``k`` of a frame is
-    ``result.clusters[k]``; this reads the same values from the result's per-cluster
-    arrays (``detection``, ``tracked``), all frames at once.
+    ``result.cluster_view()``'s cluster ``k``, whichever filter it was; this reads the
+    views' per-cluster arrays, all frames at once.
 
     Args:
         rec: the recording.
         batch: frames whose result has clusters (see :meth:`FrameBatch.with_results`).
     """
-    detections = [result.detection for result in batch.results]
-    ids = np.stack([d.clusters.labels for d in detections])  # (K, n), -1: no cluster
+    views = [result.cluster_view() for result in batch.results]
+    ids = np.stack([d.clusters.labels for d in views])  # (K, n), -1: no cluster
     clustered = ids >= 0
     _send_scan_points(rec, paths.SENSOR_CLUSTERS, batch, clustered, class_ids=ids[clustered])
     # the removed clusters of the batch, numbered across frames
-    counts = np.array([len(d.p_pv) for d in detections])
-    detected = np.concatenate([d.detected for d in detections]).astype(bool)
-    tracked = np.concatenate([np.asarray(r.tracked, bool) for r in batch.results])
+    counts = np.array([len(d.scores) for d in views])
+    detected = np.concatenate([d.detected for d in views]).astype(bool)
+    tracked = np.concatenate([d.tracked for d in views]).astype(bool)
     removed = np.flatnonzero(detected | tracked)
     first = np.concatenate(([0], np.cumsum(counts)[:-1]))
     frame_of = np.searchsorted(first, removed, side="right") - 1
@@ -174,8 +174,8 @@ def log_clusters(rec: rr.RecordingStream, batch: FrameBatch) -> None:
         half_sizes=(high - low) / 2 + CLUSTER_BOX_PAD_M,
         colors=colors,
     )
-    centroids = np.concatenate([d.clusters.centroids for d in detections]).reshape(-1, 2)
-    p_pv = np.concatenate([d.p_pv for d in detections])
+    centroids = np.concatenate([d.clusters.centroids for d in views]).reshape(-1, 2)
+    scores = np.concatenate([d.scores for d in views])
     _send(
         rec,
         paths.SENSOR_CLUSTER_IDS,
@@ -184,5 +184,7 @@ def log_clusters(rec: rr.RecordingStream, batch: FrameBatch) -> None:
         per_frame,
         positions=centroids[removed],
         colors=colors,
-        labels=_removed_cluster_labels(removed - first[frame_of], p_pv[removed], detected[removed]),
+        labels=_removed_cluster_labels(
+            removed - first[frame_of], scores[removed], detected[removed]
+        ),
     )
