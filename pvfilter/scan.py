@@ -19,6 +19,12 @@ import math
 
 import numpy as np
 
+# Bounds no real scanner comes near, that keep every beam's angle and point finite: the
+# finest 2D LiDARs space beams about 1e-3 rad apart; drivers give angle_min in [-2 pi, 2 pi]
+MIN_ANGLE_INCREMENT = 1e-9  # rad
+MAX_ABS_ANGLE_MIN = 4.0 * math.pi  # rad
+MAX_RANGE_MAX = 1e5  # m: the longest 2D LiDARs reach a few hundred metres
+
 
 def _read_only_float_array(name: str, values: object) -> np.ndarray:
     try:
@@ -47,10 +53,11 @@ class Scan:
 
     Attributes:
         ranges: range of every beam, m (``+inf``, ``-inf``, ``NaN`` as in REP-117).
-        angle_min: angle of beam 0, rad.
-        angle_increment: angle between consecutive beams, rad, > 0 (counter-clockwise).
+        angle_min: angle of beam 0, rad, within +/- 4 pi.
+        angle_increment: angle between consecutive beams, rad, in [1e-9, 2 pi]
+            (counter-clockwise).
         range_min: smallest valid range, m, >= 0.
-        range_max: largest valid range, m, > ``range_min``.
+        range_max: largest valid range, m, > ``range_min`` and <= 1e5.
         stamp: acquisition time of beam 0, s.
         time_increment: time between consecutive beams, s.
         scan_time: time between scans, s, >= 0.
@@ -59,7 +66,7 @@ class Scan:
 
     Raises:
         ValueError: naming the field, for a non-1-D ``ranges`` or ``intensities``, a length
-            mismatch, a non-positive or non-finite ``angle_increment``, a negative
+            mismatch, an ``angle_increment`` or ``angle_min`` out of bounds, a negative
             ``range_min``, ``range_min >= range_max``, or any non-finite scalar.
     """
 
@@ -81,10 +88,17 @@ class Scan:
             put(self, name, _check_finite(name, getattr(self, name)))
         put(self, "time_increment", _check_finite("time_increment", self.time_increment))
         put(self, "scan_time", _check_finite("scan_time", self.scan_time))
-        if self.angle_increment <= 0.0:
-            raise ValueError(f"angle_increment: must be > 0 rad, got {self.angle_increment}")
+        if not MIN_ANGLE_INCREMENT <= self.angle_increment <= math.tau:
+            raise ValueError(
+                f"angle_increment: must be in [{MIN_ANGLE_INCREMENT:g}, 2 pi] rad, "
+                f"got {self.angle_increment}"
+            )
+        if abs(self.angle_min) > MAX_ABS_ANGLE_MIN:
+            raise ValueError(f"angle_min: must be within +/- 4 pi rad, got {self.angle_min}")
         if self.range_min < 0.0:
             raise ValueError(f"range_min: must be >= 0 m, got {self.range_min}")
+        if self.range_max > MAX_RANGE_MAX:
+            raise ValueError(f"range_max: must be <= {MAX_RANGE_MAX:g} m, got {self.range_max}")
         if self.range_min >= self.range_max:
             raise ValueError(
                 f"range_max: must be > range_min ({self.range_min} m), got {self.range_max}"

@@ -120,7 +120,8 @@ class ImprovedPitchVariationFilter:
     ) -> Motion:
         if not self.params.ego_motion:
             return Motion()
-        turn = self.params.max_yaw_rate_rad_s * dt
+        # a turn over half a revolution is no larger a search (and a long gap stays finite)
+        turn = min(self.params.max_yaw_rate_rad_s * dt, math.pi)
         max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
         return estimate_motion(
             points,

@@ -90,3 +90,45 @@ def test_any_ranges_keep_length_and_nan_stays_nan(sequence, mode, tracking):
         assert np.isnan(result.scan.ranges[result.removed]).all()
         assert not result.removed[~scan.valid_mask()].any()
         assert ((result.scores >= 0.0) & (result.scores <= 1.0)).all()
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    increment=st.floats(min_value=1e-9, max_value=2 * math.pi),
+    angle_min=st.floats(min_value=-4 * math.pi, max_value=4 * math.pi),
+    beams=st.integers(min_value=0, max_value=400),
+    stamps=st.lists(st.floats(min_value=0.0, max_value=1e308), min_size=1, max_size=4),
+    name=st.sampled_from(["paper", "improved"]),
+)
+def test_every_scan_that_scan_accepts_is_filtered_without_error_or_warning(
+    increment, angle_min, beams, stamps, name
+):
+    from pvfilter import make_filter
+
+    rng = np.random.default_rng(beams)
+    pvf = make_filter(name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.simplefilter("ignore", StampWentBackWarning)
+        for stamp in stamps:
+            ranges = rng.uniform(0.1, 5.0, beams)
+            ranges[::7] = np.nan
+            scan = Scan(ranges=ranges, angle_min=angle_min, angle_increment=increment,
+                        range_min=0.05, range_max=12.0, stamp=stamp)  # fmt: skip
+            result = pvf.process(scan)
+            assert result.removed.shape == (beams,)
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("angle_increment", 5e-324),
+        ("angle_increment", 1e308),
+        ("angle_min", 1e300),
+        ("range_max", 1e300),
+    ],
+)
+def test_scans_no_scanner_can_make_are_refused_naming_the_field(field, value):
+    fields = {"angle_min": 0.0, "angle_increment": 0.01, "range_max": 12.0, field: value}
+    with pytest.raises(ValueError, match=field):
+        Scan(ranges=np.ones(5), range_min=0.05, **fields)
