@@ -16,7 +16,12 @@ from pathlib import Path
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
-from twsb_sim.filter_args import add_filter_args, filter_from_args, operating_threshold
+from twsb_sim.filter_args import (
+    add_filter_args,
+    compared_filters,
+    filter_from_args,
+    operating_threshold,
+)
 from twsb_sim.rerun_log.recording import add_recording_args
 from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.slam.cli import add_slam_parser
@@ -40,13 +45,14 @@ def _add_run_parser(commands: argparse._SubParsersAction) -> None:
     run.add_argument(
         "--out", type=Path, default=None, help="write frames.npz, summary.json, scenario.toml here"
     )
-    add_filter_args(run, default="paper")
+    add_filter_args(run, default="improved")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     add_recording_args(run)  # --rrd, --spawn and Rerun's own flags
     run.set_defaults(handler=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
+    from twsb_sim.comparison import FilterComparison
     from twsb_sim.frame_writer import FrameWriter
     from twsb_sim.rerun_log.recording import rerun_sink, wait_while_serving
     from twsb_sim.runner import run_scenario
@@ -60,6 +66,9 @@ def _run(args: argparse.Namespace) -> int:
     if args.out is not None:
         sinks.append(FrameWriter(args.out, scenario_file=path))
     scan_filter = filter_from_args(args, scenario)
+    compared = compared_filters(args, scenario, scan_filter)
+    if compared:  # first, so its counts are in the summary the other sinks write
+        sinks.insert(0, FilterComparison(compared))
     # a NullSink when no recording is asked for
     sinks.append(rerun_sink(args, p_th=operating_threshold(scan_filter)))
     summary = run_scenario(

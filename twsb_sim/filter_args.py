@@ -3,7 +3,8 @@
 ``--filter NAME`` names any filter of the registry (:func:`pvfilter.filter_names`),
 ``--filter-params FILE`` reads its parameters from a parameter file, and
 ``--robot-inputs`` also hands it the optional robot inputs it accepts (the simulated
-IMU's attitude); the inputs a filter needs are always handed over.
+IMU's attitude); the inputs a filter needs are always handed over. ``--compare NAME ...``
+runs other filters on the same frames for the summary.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import math
 from pvfilter import filter_entry, filter_names, load_params
 from pvfilter.registry import entry_for_params
 from twsb_sim.config_errors import ConfigError
-from twsb_sim.frame_filter import FrameFilter
+from twsb_sim.frame_filter import FrameFilter, frame_filter
 from twsb_sim.scenario import Scenario
 
 
@@ -35,6 +36,13 @@ def add_filter_args(parser: argparse.ArgumentParser, default: str) -> None:
         help="also give the filter the robot inputs it can use (the IMU's attitude)",
     )
     parser.add_argument("--no-filter", action="store_true", help="run no filter in the loop")
+    parser.add_argument(
+        "--compare",
+        metavar="NAME",
+        nargs="*",
+        default=["paper"],
+        help="also run these filters on the same frames, for the summary (default: paper)",
+    )
     parser.set_defaults(default_filter=default)
 
 
@@ -68,12 +76,32 @@ def filter_from_args(args: argparse.Namespace, scenario: Scenario) -> FrameFilte
     except ValueError as error:
         raise ConfigError("--filter", "", str(error).removeprefix("filter: ")) from None
     inputs = entry.needs + (entry.accepts if args.robot_inputs else ())
-    geometry = {
+    geometry = robot_geometry(scenario)
+    return frame_filter(name, name, params, geometry, inputs)
+
+
+def compared_filters(
+    args: argparse.Namespace, scenario: Scenario, in_loop: FrameFilter | None
+) -> dict[str, FrameFilter]:
+    """The filters ``--compare`` names, minus the one in the loop, each with its defaults."""
+    names = [n for n in args.compare if in_loop is None or n != in_loop.label]
+    geometry = robot_geometry(scenario)
+    compared = {}
+    for name in names:
+        try:
+            entry = filter_entry(name)
+        except ValueError as error:
+            raise ConfigError("--compare", "", str(error).removeprefix("filter: ")) from None
+        compared[name] = frame_filter(name, name, None, geometry, entry.needs)
+    return compared
+
+
+def robot_geometry(scenario: Scenario) -> dict[str, float]:
+    """The scenario robot's LiDAR and axle heights, m, as filters take them."""
+    return {
         "lidar_height_m": scenario.robot.lidar_height_m,
         "axle_height_m": scenario.robot.wheel_radius_m,
     }
-    scan_filter = entry.make(params, robot_geometry=geometry)
-    return FrameFilter(type(scan_filter).__name__, scan_filter, inputs)
 
 
 def operating_threshold(scan_filter: FrameFilter | None) -> float:

@@ -46,6 +46,27 @@ class FilterCounts:
 
 
 @dataclass
+class FilterTally:
+    """What one filter removed over a run, against the ground truth."""
+
+    name: str
+    counts: FilterCounts
+    removed_beams: int = 0
+
+    def format(self, width: int) -> str:
+        c = self.counts
+        return (
+            f"{self.name:<{width}} removed {self.removed_beams} beams, precision "
+            f"{c.precision:.3f}, recall {c.recall:.3f} "
+            f"(TP {c.true_positives}, FP {c.false_positives}, FN {c.false_negatives})"
+        )
+
+
+# where a reader of the summary learns why the filters differ
+WHY_FILTERS_DIFFER = "docs/filters.md#why-the-two-filters-differ"
+
+
+@dataclass
 class RunSummary:
     """What a run did, in numbers (all times in simulated seconds unless said)."""
 
@@ -68,6 +89,7 @@ class RunSummary:
     filter_name: str | None = None
     filter_counts: FilterCounts | None = None
     filter_removed_beams: int = 0
+    compared: list[FilterTally] = field(default_factory=list)  # other filters, same frames
 
     @property
     def real_time_factor(self) -> float:
@@ -101,6 +123,9 @@ class RunSummary:
         if self.filter_counts is not None:
             values["filter_counts"]["precision"] = self.filter_counts.precision
             values["filter_counts"]["recall"] = self.filter_counts.recall
+        for tally, row in zip(self.compared, values["compared"], strict=True):
+            row["counts"]["precision"] = tally.counts.precision
+            row["counts"]["recall"] = tally.counts.recall
         return values
 
     def format(self) -> str:
@@ -122,11 +147,16 @@ class RunSummary:
             lines.append(
                 "MuJoCo warnings " + ", ".join(f"{k} x{v}" for k, v in self.mujoco_warnings.items())
             )
+        tallies = []
         if self.filter_counts is not None:
-            c = self.filter_counts
-            lines.append(
-                f"filter          {self.filter_name}: removed {self.filter_removed_beams} beams,"
-                f" precision {c.precision:.3f}, recall {c.recall:.3f}"
-                f" (TP {c.true_positives}, FP {c.false_positives}, FN {c.false_negatives})"
-            )
+            loop = FilterTally(f"{self.filter_name} (in the loop):", self.filter_counts)
+            loop.removed_beams = self.filter_removed_beams
+            tallies.append(loop)
+        tallies += [FilterTally(f"{t.name} (same frames):", t.counts, t.removed_beams)
+                    for t in self.compared]  # fmt: skip
+        width = max((len(t.name) for t in tallies), default=0)
+        for k, tally in enumerate(tallies):
+            lines.append(("filter          " if k == 0 else " " * 16) + tally.format(width))
+        if len(tallies) > 1:
+            lines.append(" " * 16 + f"why these differ: {WHY_FILTERS_DIFFER}")
         return "\n".join(lines)

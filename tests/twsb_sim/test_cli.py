@@ -95,8 +95,40 @@ def test_run_takes_any_registered_filter_a_user_s_own_too(tmp_path, capsys):
             assert main(["run", str(scenario), "--quiet", "--filter", name]) == 0, name
             printed = capsys.readouterr().out
             assert "filter " in printed, name
-        assert "Everything: removed" in printed and "recall 1.000" in printed
+        assert "everything (in the loop): removed" in printed and "recall 1.000" in printed
     finally:
         unregister_filter("everything")
     assert main(["run", str(scenario), "--quiet", "--filter", "everything"]) == EXIT_USAGE
     assert "unknown filter 'everything'" in capsys.readouterr().err
+
+
+def test_run_shows_the_improved_filter_in_the_loop_and_the_paper_s_beside_it(tmp_path, capsys):
+    scenario = tmp_path / "short.toml"
+    scenario.write_text(SHORT)
+    out = tmp_path / "run"
+    assert main(["run", str(scenario), "--quiet", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "filter          improved (in the loop): removed" in printed
+    assert "paper (same frames):" in printed
+    assert "why these differ: docs/filters.md#why-the-two-filters-differ" in printed
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["filter_name"] == "improved"
+    assert [row["name"] for row in summary["compared"]] == ["paper"]
+    assert 0.0 <= summary["compared"][0]["counts"]["precision"] <= 1.0
+    # no comparison asked for, or the same filter: one line
+    assert main(["run", str(scenario), "--quiet", "--filter", "paper"]) == 0
+    assert "same frames" not in capsys.readouterr().out
+    assert main(["run", str(scenario), "--quiet", "--compare"]) == 0
+    assert "same frames" not in capsys.readouterr().out
+
+
+def test_the_summary_s_pointer_to_the_docs_leads_somewhere():
+    from pathlib import Path
+
+    from twsb_sim.summary import WHY_FILTERS_DIFFER
+
+    page, anchor = WHY_FILTERS_DIFFER.split("#")
+    text = (Path(__file__).resolve().parents[2] / page).read_text(encoding="utf-8")
+    headings = {line.lstrip("#").strip().lower().replace(" ", "-") for line in text.splitlines()
+                if line.startswith("#")}  # fmt: skip
+    assert anchor in headings
