@@ -9,8 +9,9 @@ physical quantities; ``twsb tune`` fits them to a robot and writes a file that
 
 from pvfilter.improved.beams import BeamLayout
 from pvfilter.improved.detection import LineDetection, detect_lines
+from pvfilter.improved.evidence import free_space_gaps, new_points
 from pvfilter.improved.filter import ImprovedPitchVariationFilter
-from pvfilter.improved.memory import LevelMemory, LevelView, free_space_gaps, new_points
+from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import Motion, estimate_motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, LineRecord

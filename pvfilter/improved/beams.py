@@ -72,6 +72,13 @@ class BeamLayout:
         beams[(beams < 0) | (beams >= self.count)] = -1
         return beams
 
+    def mid_scan_offsets(self) -> np.ndarray:
+        """Each beam's index less the middle one's, ``i - (count - 1) / 2`` (cached): times
+        the time increment, when it is measured relative to mid-scan."""
+        if "mid" not in self._tables:
+            self._remember("mid", np.arange(self.count) - 0.5 * (self.count - 1))
+        return self._tables["mid"]
+
     def shift_table(self, first: int, count: int, stride: int) -> tuple[np.ndarray, np.ndarray]:
         """Beams ``0, stride, 2 stride, ...`` and, for each of the shifts ``first`` ..
         ``first + count - 1``, the beam each of them came from (a ring wraps around;

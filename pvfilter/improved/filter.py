@@ -2,13 +2,15 @@
 
 A :class:`pvfilter.ScanFilter` like the paper's filter (``process(scan)``, ``reset()``; its
 result an :class:`~pvfilter.improved.ImprovedResult`), built on the physics of a tilted scan
-plane instead of the paper's per-scan heuristics. ``process`` also takes the robot's
-pitch and roll where an IMU gives them (optional).
+plane instead of the paper's per-scan heuristics. ``process`` also takes what a TWSB robot
+has anyway, each optional: the attitude from its IMU estimator, and the LiDAR's pose from
+wheel odometry (the ego-motion's prior).
 
-Robustness, as the paper's filter: empty and all-invalid scans give an empty result of
-the same length; a stamp earlier than the previous one resets the history with a
-:class:`pvfilter.StampWentBackWarning`; a change of beam count or angles starts the
-level-view memory afresh (it is kept per beam).
+Robustness: empty and all-invalid scans give an empty result of the same length; a stamp
+earlier than the previous one resets the history with a
+:class:`pvfilter.StampWentBackWarning`; a change of beam count or angles, a time gap over
+``max_gap_s`` and a motion the filter cannot trust start the level view afresh
+(**re-baseline**), and the scan that does so loses no beam.
 """
 
 from __future__ import annotations
@@ -18,17 +20,23 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pvfilter.contract import check_attitude
+from pvfilter.contract import check_attitude, check_pose
 from pvfilter.improved.beams import BeamLayout, indices
-from pvfilter.improved.detection import detect_lines
-from pvfilter.improved.imu import floor_points
-from pvfilter.improved.memory import LevelMemory, free_space_gaps, new_points
-from pvfilter.improved.motion import Motion, estimate_motion
+from pvfilter.improved.detection import LineDetection, detect_lines
+from pvfilter.improved.egomotion import EgoMotion, Match
+from pvfilter.improved.evidence import RecentScans, free_space_gaps, new_points, world_static
+from pvfilter.improved.imu import Attitude, AttitudeTrack
+from pvfilter.improved.memory import LevelMemory, LevelView
+from pvfilter.improved.motion import Motion, deskew, unstretch
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
-from pvfilter.improved.segmentation import segment_scan
+from pvfilter.improved.segmentation import Segments, segment_scan
 from pvfilter.scan import Scan
 from pvfilter.stamps import stamp_went_back
+
+STATIC_BASELINE_S = 0.3  # s: the world-static test compares with the scan this long ago
+STATIC_TOLERANCE_M = 0.03  # m: how near its prediction a static return lies (range noise
+# of two scans, plus the motion's error; plus 1 % of the range)
 
 
 class ImprovedPitchVariationFilter:
@@ -41,16 +49,19 @@ class ImprovedPitchVariationFilter:
     def __init__(self, params: ImprovedParams | None = None) -> None:
         self.params = params if params is not None else ImprovedParams()
         self._memory = LevelMemory()
+        self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
-        self._previous_points: np.ndarray | None = None  # for the next ego-motion fit
         self._previous_stamp: float | None = None
-        self._motion = Motion()  # the last ego-motion: the next one's prior
+        self._recent = RecentScans(STATIC_BASELINE_S)
+        self._attitude = AttitudeTrack(self.params)
+        self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
     def reset(self) -> None:
         """Forget the history: the next scan starts a new sequence."""
         self._new_sequence = True
         self._previous_stamp = None
+        self._attitude.reset()
 
     def process(
         self,
@@ -64,87 +75,177 @@ class ImprovedPitchVariationFilter:
 
         Args:
             scan: the scan at time t.
-            pitch_rad: the robot's pitch from an IMU, rad, positive nose down (optional).
+            pitch_rad: the robot's pitch from its IMU estimator, rad, positive nose down
+                (optional; noisy, lagging and biased estimates are expected).
             roll_rad: its roll, rad, positive left side up (optional, 0 with a pitch).
-            pose_sensor_in_odom: ignored for now (the ego-motion comes from the scans).
+            pose_sensor_in_odom: the LiDAR's pose ``(x m, y m, yaw rad)`` in the odom frame
+                from wheel odometry, at the scan's stamp (optional; it may slip).
 
         Returns:
-            The filtered scan, the removed-beam mask, per-beam scores, per-cluster records.
+            The filtered scan, the removed-beam mask, per-beam scores, the line detection.
         """
-        attitude = check_attitude(pitch_rad, roll_rad)
-        params = self.params
-        new_sequence, dt = self._start(scan)
+        checked = check_attitude(pitch_rad, roll_rad)
+        pose = check_pose(pose_sensor_in_odom)
+        fresh, dt = self._start(scan)
+        attitude = self._attitude.update(checked, scan.stamp)
         layout = self._layout
         # scan.valid_mask(), without its errstate guard: comparisons with NaN never warn
         valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max)
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
         beams = indices(valid)
-        # segment: split lines across the direction of travel from what they touch
-        segments = segment_scan(points.take(beams, axis=0), beams, params)
-        # ego-motion, then the level view moved into this scan's frame
-        motion, view = Motion(), None
-        if not new_sequence:
-            directions = np.full(len(scan), np.nan)
-            directions[beams] = segments.directions
-            motion = self._ego_motion(layout, points, directions, dt)
-            view = self._memory.view(layout, scan.range_max, motion, params)
-        # evidence: returns in previously free space, and the IMU's floor
-        if view is not None:
-            gaps = free_space_gaps(ranges, view.ranges, layout, params)
-            new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
-        else:
-            gaps, new = np.full(len(scan), np.nan), np.zeros(len(scan), dtype=bool)
-        floor = None
-        if attitude is not None:
-            # near the predicted floor, and not where the level view saw structure (a
-            # wall far ahead is hit just above the floor when the tilt is small)
-            floor = np.zeros(len(scan), dtype=bool)
-            floor[beams] = floor_points(segments.points, *attitude, params)
-            floor &= ~(gaps <= params.imu_floor_tolerance_m)  # NaN (unknown) compares False
-        # detect: score segments, check the tilted-plane geometry, extend the lines
-        detection = detect_lines(scan, points, segments, new, floor, params, motion, new_sequence)
-        # remember: the level view, and the points the next ego-motion fit may use
-        hold = detection.candidates if params.hold_behind_lines else None
-        self._memory.update(ranges, scan.ranges == np.inf, view, dt, params, hold)
-        # the next ego-motion fit leaves out what may move; a copy, since the detection's
-        # clusters hold ``points``
-        moving = new | detection.floor_points | detection.candidates
-        self._previous_points = np.where(moving[:, None], np.nan, points)
-        self._motion = motion
+        # segment, in the scan's own frame (a floor line moves with the sensor)
+        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, self.params)
+        # ego-motion: the scan in its mid-scan frame, matched against the previous one
+        prior = self._ego.prior(dt, pose)
+        velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
+        mid_points = deskew(points, layout, scan.time_increment, velocity)
+        match, fresh, coast = self._match(mid_points, segments, dt, prior, pose, attitude, fresh)
+        # evidence: returns in front of the level view, and returns that stayed put in
+        # the world while the sensor moved
+        level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
+        new, view, static = self._evidence(
+            scan, ranges, level_ranges, match.step, velocity, fresh, coast
+        )
+        # detect: score segments, claim the points on the lines, build the clusters
+        detection = detect_lines(
+            scan, points, segments, new, attitude, self.params, match.step, fresh or coast, static
+        )
+        # remember: the level view (from level scans only), the scans to match and compare
+        self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
+        if not coast:
+            tilt = self._tilt(detection, attitude)
+            self._ego.commit(mid_points, new | detection.candidates, match, tilt, dt, pose)
         # remove: the beams of every detected segment become NaN
         return removal(detection)
 
-    def _ego_motion(
-        self, layout: BeamLayout, points: np.ndarray, directions: np.ndarray, dt: float
-    ) -> Motion:
-        if not self.params.ego_motion:
-            return Motion()
-        # a turn over half a revolution is no larger a search (and a long gap stays finite)
-        turn = min(self.params.max_yaw_rate_rad_s * dt, math.pi)
-        max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
-        return estimate_motion(
-            points,
-            directions,
-            self._previous_points,
-            layout,
-            max_shift,
-            self.params.association_m,
-            prior=self._motion,
+    def _match(
+        self,
+        mid_points: np.ndarray,
+        segments: Segments,
+        dt: float,
+        prior: tuple[Motion, tuple[float, float]],
+        pose: np.ndarray | None,
+        attitude: Attitude | None,
+        fresh: bool,
+    ) -> tuple[Match, bool, bool]:
+        """The scan's ego-motion, and whether the filter starts afresh or coasts on the
+        prior: a match that cannot be trusted removes nothing; in a pitch event (the last
+        scan was tilted) the prior carries on until a scan matches again, otherwise the
+        filter re-baselines."""
+        match, coast = Match(Motion(), True), False
+        if not fresh:
+            imu_tilt = None if attitude is None else attitude.tilt_rad
+            match = self._ego.match(
+                self._layout, mid_points, segments, dt, prior, pose is not None, imu_tilt
+            )
+            coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
+            fresh = not match.trusted and not coast
+        if fresh:
+            self._rebaseline()
+        elif coast:
+            match = self._ego.coast(match, match.tilt_rad)
+        return match, fresh, coast
+
+    def _remember(
+        self,
+        scan: Scan,
+        ranges: np.ndarray,
+        level_ranges: np.ndarray,
+        detection: LineDetection,
+        view: LevelView | None,
+        velocity: Motion,
+        dt: float,
+        coast: bool,
+    ) -> None:
+        """Teach the level view (from level scans only: a coasting scan is taken as tilted)
+        and keep the scan for the world-static test."""
+        level = self._level(detection.tilted or coast, dt)
+        hold = detection.candidates if self.params.hold_behind_lines else None
+        self._memory.update(
+            ranges,
+            scan.ranges == np.inf,
+            view,
+            dt,
+            self.params,
+            level,
+            hold,
+            velocity,
+            scan.time_increment,
         )
+        self._recent.add(scan.stamp, level_ranges)
+
+    def _evidence(
+        self,
+        scan: Scan,
+        ranges: np.ndarray,
+        level_ranges: np.ndarray,
+        step: Motion,
+        velocity: Motion,
+        fresh: bool,
+        coast: bool,
+    ) -> tuple[np.ndarray, LevelView | None, tuple[np.ndarray, np.ndarray] | None]:
+        """New returns (in front of the level view moved into this scan's frame), the view
+        itself, and the world-static test against the scans of the last
+        ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
+        params, layout = self.params, self._layout
+        new = np.zeros(len(scan), dtype=bool)
+        if fresh:
+            return new, None, None
+        view = self._memory.view(
+            layout, scan.range_max, step, velocity, scan.time_increment, params
+        )
+        earlier = self._recent.moved(step)
+        if coast:  # the motion is the prior's: nothing is compared
+            return new, view, None
+        gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
+        new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
+        static = None
+        if earlier is not None:
+            earlier_ranges, since = earlier
+            static = world_static(level_ranges, earlier_ranges, layout, since, STATIC_TOLERANCE_M)
+        return new, view, static
+
+    @staticmethod
+    def _tilt(detection: LineDetection, attitude: Attitude | None) -> float:
+        """The scan plane's tilt, rad: the IMU's, else the strongest line's (0 where the
+        scan has none)."""
+        if attitude is not None:
+            return attitude.tilt_rad
+        if detection.tilted and not math.isnan(detection.plane_tilt_rad):
+            return detection.plane_tilt_rad
+        return 0.0
+
+    def _rebaseline(self) -> None:
+        """Start afresh: no level view, no scan to match or compare with."""
+        self._memory.reset()
+        self._ego.reset()
+        self._recent.clear()
+        self._tilted_s = 0.0
+
+    def _level(self, tilted: bool, dt: float) -> bool:
+        """The scan plane was level: no strong candidate line, and the IMU (if any) agrees.
+
+        Tilted for longer than ``max_event_s`` cannot be (the robot levels): the scans are
+        then taken as level again, so a wall mistaken for a line cannot freeze the view.
+        """
+        attitude = self._attitude.current
+        if attitude is not None:
+            tilted |= attitude.tilted
+        self._tilted_s = self._tilted_s + dt if tilted else 0.0
+        return not tilted or self._tilted_s > self.params.max_event_s
 
     def _start(self, scan: Scan) -> tuple[bool, float]:
-        """Check stamp and beams: does the scan start a sequence, and the time step, s."""
+        """Check stamp and beams: does the scan start afresh, and the time step, s."""
         previous = self._previous_stamp
         if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
         self._previous_stamp = scan.stamp
-        new_sequence = self._new_sequence or self._layout is None or not self._layout.fits(scan)
+        fresh = self._new_sequence or self._layout is None or not self._layout.fits(scan)
         self._new_sequence = False
         if self._layout is None or not self._layout.fits(scan):
             self._layout = BeamLayout.of(scan)
-        if new_sequence:
-            self._memory.reset()
-            self._motion = Motion()
+        dt = 0.0 if previous is None else scan.stamp - previous
+        if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
-        return False, scan.stamp - previous
+        return False, dt

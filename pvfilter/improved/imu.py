@@ -1,56 +1,80 @@
-"""The optional IMU input: with pitch and roll known, the floor's line is predicted.
+"""The optional IMU input: the attitude the robot's estimator gives, and how far off it is.
 
-A point ``(x, y)`` of the scan plane lies ``z = h_s - x sin p + y cos p sin r`` above the
-floor (p pitch, positive nose down; r roll, positive left side up; REP-103), where
-``h_s`` is the scanner's height: ``axle + (h - axle) cos p cos r`` for a robot that tilts
-about its wheel axle. A return with ``z`` near 0 is on the floor. Unlike a height band
-around the scan plane, this test does not remove walls that a tilted plane meets high or
-low: only hits on the floor itself.
+An attitude estimator's pitch is noisy, biased by up to about a degree, and lags the body
+by tens of milliseconds; a rotating LiDAR measures a floor line over tens of
+milliseconds more. So the pitch of the scan plane is taken to lie within
+``imu_angle_error_deg`` plus the pitch rate times ``IMU_TIMING_S`` of the estimate: a
+fast pitch change widens the band, a steady tilt keeps it narrow. The rate comes from
+consecutive estimates.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-
-import numpy as np
 
 from pvfilter.improved.params import ImprovedParams
 
-
-def scanner_height(pitch_rad: float, roll_rad: float, params: ImprovedParams) -> float:
-    """Height of the scanner's origin above the floor, m, for the robot tilted as given."""
-    arm = params.lidar_height_m - params.axle_height_m
-    return params.axle_height_m + arm * math.cos(pitch_rad) * math.cos(roll_rad)
+IMU_TIMING_S = 0.1  # s: how far a beam's time may be from the estimate's (the estimator's
+# lag of tens of ms, and half a scan)
 
 
-def heights_above_floor(
-    points: np.ndarray, pitch_rad: float, roll_rad: float, params: ImprovedParams
-) -> np.ndarray:
-    """Height above the floor of each point of the scan plane, m.
+@dataclasses.dataclass(frozen=True)
+class Attitude:
+    """The scan plane's attitude as the IMU gives it.
 
-    Args:
-        points: sensor-frame points, m, ``(k, 2)``.
+    Attributes:
         pitch_rad: pitch, rad, positive nose down.
         roll_rad: roll, rad, positive left side up.
-        params: ``lidar_height_m`` and ``axle_height_m`` are used.
+        error_rad: how far the scan plane's pitch may be from ``pitch_rad``, rad.
     """
-    return (
-        scanner_height(pitch_rad, roll_rad, params)
-        - points[:, 0] * math.sin(pitch_rad)
-        + points[:, 1] * math.cos(pitch_rad) * math.sin(roll_rad)
-    )
+
+    pitch_rad: float
+    roll_rad: float
+    error_rad: float
+
+    @property
+    def tilt_rad(self) -> float:
+        """The plane's tilt, rad (>= 0)."""
+        return abs(self.pitch_rad)
+
+    @property
+    def tilted(self) -> bool:
+        """The plane is tilted beyond what the error explains."""
+        return self.tilt_rad > self.error_rad
+
+    @property
+    def down_side(self) -> int:
+        """Where the floor is: +1 ahead (nose down), -1 behind."""
+        return 1 if self.pitch_rad > 0.0 else -1
 
 
-def floor_points(
-    points: np.ndarray, pitch_rad: float, roll_rad: float, params: ImprovedParams
-) -> np.ndarray:
-    """Per point: it lies on the floor.
+class AttitudeTrack:
+    """The IMU's estimates scan after scan, for their rate.
 
-    That is, less than ``imu_floor_tolerance_m`` plus ``range * sin(imu_angle_error_deg)``
-    above it: an error in the IMU's angles moves the predicted floor in proportion to
-    the range.
+    Args:
+        params: ``imu_angle_error_deg`` is used.
     """
-    heights = heights_above_floor(points, pitch_rad, roll_rad, params)
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    slack = math.sin(math.radians(params.imu_angle_error_deg))
-    return heights < params.imu_floor_tolerance_m + slack * ranges
+
+    def __init__(self, params: ImprovedParams) -> None:
+        self.params = params
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the previous estimate."""
+        self.previous: tuple[float, float] | None = None  # (stamp s, pitch rad)
+        self.current: Attitude | None = None  # the latest scan's
+
+    def update(self, attitude: tuple[float, float] | None, stamp: float) -> Attitude | None:
+        """The attitude for the scan at ``stamp`` (None without an IMU)."""
+        if attitude is None:
+            self.previous = self.current = None
+            return None
+        pitch, roll = attitude
+        rate = 0.0
+        if self.previous is not None and stamp > self.previous[0]:
+            rate = (pitch - self.previous[1]) / (stamp - self.previous[0])
+        self.previous = (stamp, pitch)
+        error = math.radians(self.params.imu_angle_error_deg) + abs(rate) * IMU_TIMING_S
+        self.current = Attitude(pitch, roll, error)
+        return self.current

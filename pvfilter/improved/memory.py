@@ -3,25 +3,27 @@
 The paper's likelihood field compares a scan with the scan just before it, so a floor
 line is "new" only in its first frame. Physics gives a cue that lasts the whole pitch
 event: a floor (or ceiling) line always lies **in front of** the structure a level
-scanner sees along the same beams, in space the scanner saw as free a moment ago. The
-structure itself does not come closer faster than the sensor moves, and the sensor's
-motion is known (:mod:`pvfilter.improved.motion`).
+scanner sees along the same beams, in space the scanner saw as free a moment ago
+(:mod:`pvfilter.improved.evidence`). The structure itself does not come closer faster
+than the sensor moves, and the sensor's motion is known (:mod:`pvfilter.improved.motion`).
 
 So the memory keeps, per beam, the range of the level view in the current sensor frame:
 
 - each scan, it is moved by the ego-motion (points transformed, then binned back into
   beams; the nearest point wins a beam; one-beam holes take a neighbour's view);
+- only **level** scans teach it (scans with no candidate line, and, with an IMU, a small
+  tilt): a tilted plane sees past furniture and under tables, and what it sees there must
+  not become free space that a level scan later finds occupied. While the plane is
+  tilted the view only moves, and its clock stands still;
+- space newly seen as free (a level return farther than the view) joins the view only
+  once it has been seen for ``confirm_free_s``;
 - behind a segment that may be a floor line (``hold_behind_lines``) the view does not
-  come closer at all: the line stays "new" until the event ends, even one that creeps in
-  slowly as the robot leans into an acceleration;
-- elsewhere a beam's return replaces the view when farther, and otherwise pulls it closer
-  by at most ``memory_shrink_mps`` times the time step: a person walking in or an
-  ego-motion error is absorbed within a frame or two, while a line that jumps in front of
-  the view faster than that is new in its first frame, and held from then on;
+  come closer at all; elsewhere a return pulls it closer by at most ``memory_shrink_mps``
+  times the time step (a person walking in, an ego-motion error);
 - beams with no return within range (``+inf``) remember free space up to ``range_max``;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
-  event lasts: the balance controller levels the robot) replaces it: the view was wrong.
+  event lasts) replaces it: the view was wrong.
 
 The memory does not depend on what the filter removed (the segments it holds behind are
 chosen whatever ``p_th``), so the filter's state, and with it every threshold of a
@@ -33,10 +35,9 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.ndimage import minimum_filter1d
 
 from pvfilter.improved.beams import BeamLayout, indices
-from pvfilter.improved.motion import Motion
+from pvfilter.improved.motion import Motion, move_scan
 from pvfilter.improved.params import ImprovedParams
 
 
@@ -46,13 +47,20 @@ class LevelView:
 
     Attributes:
         ranges: m; NaN unknown, ``+inf`` free up to ``range_max``.
-        ages: s since a return last confirmed the beam.
+        ages: s since a level return last confirmed the beam.
         ahead_s: s for which the beam's returns have been in front of the view.
+        farther_s: s for which the beam's level returns have been beyond the view.
     """
 
     ranges: np.ndarray
     ages: np.ndarray
     ahead_s: np.ndarray
+    farther_s: np.ndarray
+
+    @classmethod
+    def empty(cls, n: int) -> LevelView:
+        """A view that knows nothing, of ``n`` beams."""
+        return cls(np.full(n, np.nan), np.full(n, np.inf), np.zeros(n), np.zeros(n))
 
 
 class LevelMemory:
@@ -60,37 +68,55 @@ class LevelMemory:
 
     def __init__(self) -> None:
         self.state: LevelView | None = None
+        self.velocity = Motion()  # the sensor's motion per second during the last scan
+        self.time_increment = 0.0  # s between the beams of the last scan
 
     def reset(self) -> None:
         """Forget everything (a new sequence)."""
         self.state = None
 
     def view(
-        self, layout: BeamLayout, range_max: float, motion: Motion, params: ImprovedParams
+        self,
+        layout: BeamLayout,
+        range_max: float,
+        motion: Motion,
+        velocity: Motion,
+        time_increment: float,
+        params: ImprovedParams,
     ) -> LevelView:
         """The level view of each beam of the current scan: the memory moved by ``motion``.
 
-        Does not change the memory; :meth:`update` does, with what this returns.
+        With a rotating LiDAR the remembered beams are first moved to the last scan's
+        mid-scan frame, and after the motion to where the current scan's beams see them
+        (``velocity``: the sensor's motion per second now). Does not change the memory;
+        :meth:`update` does, with what this returns.
         """
         state = self.state
         remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
         known = indices(~np.isnan(remembered))
-        moved = motion.apply(layout.points(remembered).take(known, axis=0))
+        moved = move_scan(
+            layout.points(remembered).take(known, axis=0),
+            known,
+            layout,
+            motion,
+            (self.time_increment, self.velocity),
+            (time_increment, velocity),
+        )
         ranges = np.hypot(moved[:, 0], moved[:, 1])
         beams = layout.beam_of(moved)
         order = np.argsort(-ranges)  # the nearest point is written last and wins its beam
         if not layout.ring:  # on a ring every point lands on a beam
             order = order[beams[order] >= 0]
         target, source = beams[order], known[order]
-        n = layout.count
-        level, ages, ahead = np.full(n, np.nan), np.full(n, np.inf), np.zeros(n)
-        level[target] = ranges[order]
-        ages[target] = state.ages[source]
-        ahead[target] = state.ahead_s[source]
-        _fill_single_holes(level, ages, ahead)
-        level[level >= range_max - 1e-6] = np.inf  # free space stays free (rounding)
-        level[ages > params.memory_timeout_s] = np.nan
-        return LevelView(level, ages, ahead)
+        view = LevelView.empty(layout.count)
+        view.ranges[target] = ranges[order]
+        for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
+            mine[target] = theirs[source]
+        view.farther_s[target] = state.farther_s[source]
+        _fill_single_holes(view)
+        view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
+        view.ranges[view.ages > params.memory_timeout_s] = np.nan
+        return view
 
     def update(
         self,
@@ -99,7 +125,10 @@ class LevelMemory:
         view: LevelView | None,
         dt: float,
         params: ImprovedParams,
+        level: bool,
         hold: np.ndarray | None = None,
+        velocity: Motion | None = None,
+        time_increment: float = 0.0,
     ) -> None:
         """Take a scan into the memory.
 
@@ -108,87 +137,54 @@ class LevelMemory:
             no_return: per beam, nothing within ``range_max`` (``+inf``).
             view: what :meth:`view` returned for it; None for the first scan of a sequence.
             dt: time since the previous scan, s.
-            params: ``memory_shrink_mps`` and ``max_event_s`` are used.
+            params: the margins, ``memory_shrink_mps``, ``confirm_free_s``, ``max_event_s``.
+            level: the scan plane was level: the scan may teach the view.
             hold: bool per beam: the view does not come closer there (None: nowhere).
+            velocity: the sensor's motion per second during the scan (None: standing).
+            time_increment: the scan's time between beams, s.
         """
-        n = len(ranges)
+        self.velocity = velocity if velocity is not None else Motion()
+        self.time_increment = time_increment
         valid = ~np.isnan(ranges)
-        if view is None:  # the first scan of a sequence
-            level, ages, ahead = np.full(n, np.nan), np.full(n, np.inf), np.zeros(n)
-        else:
-            level, ages, ahead = view.ranges.copy(), view.ages + dt, view.ahead_s
+        if view is None:  # the first scan of a sequence: all it has
+            level_ranges = np.where(no_return, np.inf, ranges)
+            seen = np.where(valid | no_return, 0.0, np.inf)
+            self.state = LevelView(level_ranges, seen, np.zeros(len(ranges)), np.zeros(len(ranges)))
+            return
+        current = view.ranges.copy()
         shrink = params.memory_shrink_mps * dt
-        floor = level - shrink if shrink < np.inf else np.full(n, -np.inf)
+        floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
         if hold is not None:
-            np.copyto(floor, level, where=hold)
+            np.copyto(floor, current, where=hold)
         floor[np.isnan(floor)] = -np.inf
-        held = ranges < floor  # NaN (invalid) compares False
-        ahead = np.where(held, ahead + dt, 0.0)  # in front of the view for this long
+        in_front = ranges < floor  # NaN (invalid) compares False
+        ahead = np.where(in_front, view.ahead_s + dt, 0.0)  # in front of the view this long
         settled = ahead > params.max_event_s
-        np.copyto(level, np.fmax(ranges, floor), where=valid)
-        level[settled] = ranges[settled]
+        if not level:  # a tilted plane: the view only moves, and its clock stands still
+            current[settled] = ranges[settled]
+            ahead[settled] = 0.0
+            self.state = LevelView(current, view.ages, ahead, view.farther_s)
+            return
+        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
+        beyond = (ranges > current + margin) | (no_return & ~(current == np.inf))
+        farther = np.where(beyond, view.farther_s + dt, 0.0)
+        unknown = np.isnan(current)
+        take = beyond & ((farther >= params.confirm_free_s) | unknown)
+        # a return near the view, or in front of it, moves it (closer: at most the shrink)
+        np.copyto(current, np.fmax(ranges, floor), where=valid & ~beyond)
+        np.copyto(current, ranges, where=valid & take)
+        current[settled] = ranges[settled]
         ahead[settled] = 0.0
-        ages[valid] = 0.0
-        level[no_return] = np.inf
-        ages[no_return] = 0.0
-        self.state = LevelView(level, ages, ahead)
+        current[no_return & take] = np.inf
+        ages = view.ages + dt
+        ages[valid | no_return] = 0.0
+        farther[take] = 0.0
+        self.state = LevelView(current, ages, ahead, farther)
 
 
-def free_space_gaps(
-    ranges: np.ndarray, level: np.ndarray, layout: BeamLayout, params: ImprovedParams
-) -> np.ndarray:
-    """Per beam: how far in front of the level view the return lies, m (NaN: unknown).
-
-    The level view of a beam is the nearest of the ``memory_window_beams`` beams on each
-    side; beams whose own view is unknown, and invalid beams (``ranges`` NaN), get NaN.
-    ``+inf`` means the level view saw nothing within ``range_max`` along the beam.
-    """
-    unknown = np.isnan(level)
-    nearest = window_minimum(np.where(unknown, np.inf, level), params.memory_window_beams, layout)
-    gaps = nearest - ranges
-    gaps[unknown] = np.nan
-    return gaps
-
-
-def new_points(
-    gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
-) -> np.ndarray:
-    """Per beam: the return lies in front of the level view by more than the margin.
-
-    Args:
-        gaps: from :func:`free_space_gaps`, m.
-        ranges: the scan's ranges, m (NaN where invalid).
-        margin_m: fixed part of the margin, m.
-        margin_rel: part of the margin per metre of range, 1.
-    """
-    return gaps > margin_m + margin_rel * ranges  # NaN (unknown, invalid) compares False
-
-
-def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:
-    """The least of ``values`` over beams ``i - half .. i + half`` (no NaN in ``values``).
-
-    As ``scipy.ndimage.minimum_filter1d`` (wrapping on a ring, else repeating the end
-    values), but for the usual window of three beams two ``np.minimum`` calls on a padded
-    copy cost a fraction of scipy's set-up.
-    """
-    n = len(values)
-    if half == 0 or n == 0:
-        return values
-    if half >= n or half > 4:
-        mode = "wrap" if layout.ring else "nearest"
-        return minimum_filter1d(values, 2 * half + 1, mode=mode)
-    if layout.ring:
-        padded = np.concatenate((values[n - half :], values, values[:half]))
-    else:
-        padded = np.concatenate((values[:1].repeat(half), values, values[-1:].repeat(half)))
-    least = padded[:n].copy()
-    for offset in range(1, 2 * half + 1):
-        np.minimum(least, padded[offset : offset + n], out=least)
-    return least
-
-
-def _fill_single_holes(level: np.ndarray, ages: np.ndarray, ahead: np.ndarray) -> None:
+def _fill_single_holes(view: LevelView) -> None:
     """Give beams that no remembered point landed on their nearer neighbour's values."""
+    level = view.ranges
     hole = indices(np.isnan(level))
     if hole.size == 0 or hole.size == len(level):
         return
@@ -198,4 +194,5 @@ def _fill_single_holes(level: np.ndarray, ages: np.ndarray, ahead: np.ndarray) -
     source = np.where(take_left, left, right)
     fill = ~np.isnan(level[source])
     hole, source = hole[fill], source[fill]
-    level[hole], ages[hole], ahead[hole] = level[source], ages[source], ahead[source]
+    for values in (level, view.ages, view.ahead_s, view.farther_s):
+        values[hole] = values[source]

@@ -1,22 +1,23 @@
-"""Ego-motion between consecutive scans, from the scans alone.
+"""Ego-motion: how the sensor moved since the reference scan, from the scans and a prior.
 
 The level-view memory (:mod:`pvfilter.improved.memory`) must follow the sensor as it
-turns and drives, or every turn makes the world look new. No odometry is assumed: the
-motion comes from the two scans in two steps, both cheap on 720 beams:
+turns and drives, or every turn makes the world look new. The motion comes from the two
+scans in two steps, both cheap on 720 beams:
 
-1. **Turn, to the nearest beam**: the previous ranges shifted by ``s`` beams are compared
-   with the current ones (sum of the clipped absolute differences), first for every shift
-   near the previous turn on every other beam (the turn rate changes little between scans), and
-   only if that fails for every shift the fastest turn allows on every fourth beam; the
-   best ``s`` gives ``theta_0 = s * angle_increment``.
-2. **Fine turn and translation**: a point-to-line least-squares step, solved twice with the
-   worst residuals dropped in between. Beam ``i`` of the current scan (point ``p``, local
-   line normal ``n``) and the previous point the coarse turn puts on it (``q``) lie on the
-   same surface, so ``n . (R(d_theta) q + t - p) = 0``, linear in ``(d_theta, t)``. The
-   previous motion (constant velocity) enters as a weak prior: it decides directions the
-   scans do not constrain (along a corridor).
+1. **Turn, to the nearest beam**: the reference ranges shifted by ``s`` beams are
+   compared with the current ones (sum of the clipped absolute differences), first for
+   every shift near the prior's turn on every other beam, and only if that fails for
+   every shift the fastest turn allows on every fourth beam.
+2. **Fine turn and translation**: a point-to-line least-squares step, solved twice with
+   the worst residuals dropped in between. Beam ``i`` of the current scan (point ``p``,
+   local line normal ``n``) and the reference point the coarse turn puts on it (``q``) lie
+   on the same surface, so ``n . (R(d_theta) q + t - p) = 0``, linear in
+   ``(d_theta, t)``. The prior enters as pseudo-observations with its spread: wheel
+   odometry when the robot gives it (slip makes its spread grow with the step), else the
+   previous motion (constant velocity), which decides what the scans do not constrain
+   (along a corridor, or while floor lines hide the walls ahead).
 
-Convention: a static point at ``q`` in the previous sensor frame is at ``R(theta) q + t``
+Convention: a static point at ``q`` in the reference sensor frame is at ``R(theta) q + t``
 in the current one. The caller leaves out beams that may be pitch variation; pairs
 farther apart than ``association_m`` after the coarse turn take no part.
 """
@@ -30,12 +31,12 @@ import numpy as np
 
 from pvfilter.improved.beams import BeamLayout, indices
 
-MIN_PAIRS = 20  # fewer usable beam pairs: keep the coarse turn, no translation
+MIN_PAIRS = 20  # fewer usable beam pairs: the fit is not trusted (the prior stands)
 CLIP_M = 0.5  # m: range differences are clipped here in the coarse search
-NEAR_SHIFTS = 3  # beams: the turn is first sought this close to the previous one
-# The prior as pseudo-observations: (row noise / prior spread)^2 per unknown, with a row
-# noise of 2 cm and spreads of 0.01 rad and 3 cm per scan
-PRIOR_WEIGHTS = np.diag([(0.02 / 0.01) ** 2, (0.02 / 0.03) ** 2, (0.02 / 0.03) ** 2])
+NEAR_SHIFTS = 3  # beams: the turn is first sought this close to the prior's
+ROW_NOISE_M = 0.02  # m: the spread of one point-to-line row (range noise, line fit)
+SKEW_REACH_M = 10.0  # m: a far return, for how far a turn during a scan moves it
+NEGLIGIBLE_SKEW_M = 0.002  # m: less motion than this in half a scan is not deskewed
 
 
 @dataclasses.dataclass(frozen=True)
@@ -46,23 +47,185 @@ class Motion:
         theta_rad: rotation, rad.
         tx_m: translation along the current x axis, m.
         ty_m: translation along the current y axis, m.
-        pairs: beam pairs used in the fine step (0: coarse turn only, or no motion).
+        pairs: beam pairs used in the fine step (0: no fit).
+        residual_m: median absolute point-to-line residual of the fit, m (NaN: no fit).
     """
 
     theta_rad: float = 0.0
     tx_m: float = 0.0
     ty_m: float = 0.0
     pairs: int = 0
+    residual_m: float = math.nan
 
     def apply(self, points: np.ndarray) -> np.ndarray:
-        """Points of the previous sensor frame in the current one, m, ``(k, 2)``."""
+        """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add, and the
-        # filter's results are kept bit for bit
+        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add
         moved = points @ np.array([[c, s], [-s, c]])
         moved[:, 0] += self.tx_m  # per column: broadcasting a pair over rows is slower
         moved[:, 1] += self.ty_m
         return moved
+
+    def then(self, after: Motion) -> Motion:
+        """This motion followed by ``after`` (frames a -> b -> c)."""
+        c, s = math.cos(after.theta_rad), math.sin(after.theta_rad)
+        return Motion(
+            self.theta_rad + after.theta_rad,
+            c * self.tx_m - s * self.ty_m + after.tx_m,
+            s * self.tx_m + c * self.ty_m + after.ty_m,
+        )
+
+    def inverse(self) -> Motion:
+        """The motion back (frames b -> a)."""
+        c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
+        return Motion(
+            -self.theta_rad, -(c * self.tx_m + s * self.ty_m), s * self.tx_m - c * self.ty_m
+        )
+
+    def scaled(self, factor: float) -> Motion:
+        """The same rate of motion over ``factor`` times the time (constant velocity)."""
+        return Motion(self.theta_rad * factor, self.tx_m * factor, self.ty_m * factor)
+
+    @property
+    def translation_m(self) -> float:
+        """Length of the translation, m."""
+        return math.hypot(self.tx_m, self.ty_m)
+
+
+def odometry_motion(previous: np.ndarray, current: np.ndarray) -> Motion:
+    """The motion between two odometry poses of the sensor ``(x, y, yaw)`` (REP-105)."""
+    dx, dy = previous[0] - current[0], previous[1] - current[1]
+    c, s = math.cos(current[2]), math.sin(current[2])
+    return Motion(previous[2] - current[2], c * dx + s * dy, -s * dx + c * dy)
+
+
+def deskew(
+    points: np.ndarray, layout: BeamLayout, time_increment: float, velocity: Motion
+) -> np.ndarray:
+    """Points of a rotating scan moved to the frame of the sensor at mid-scan, m.
+
+    Beam ``i`` is measured ``(i - (n - 1) / 2) * time_increment`` after mid-scan; with the
+    sensor moving at ``velocity`` (the motion over one second), a point seen then is
+    moved back into the mid-scan frame. All beams at one instant (``time_increment = 0``)
+    or a sensor that hardly moves during a scan leave the points as they are.
+    """
+    if _unskewed(layout, time_increment, velocity):
+        return points
+    tau = layout.mid_scan_offsets() * time_increment  # s
+    return _turn_and_shift(points, tau, velocity, -1.0)
+
+
+def skew(
+    points: np.ndarray, layout: BeamLayout, time_increment: float, velocity: Motion
+) -> np.ndarray:
+    """Mid-scan points moved to where a rotating scan moving at ``velocity`` sees them, m.
+
+    The inverse of :func:`deskew`: a point is measured when the beam at its bearing is,
+    and by then the sensor has moved on (the bearing's own shift is second order).
+    """
+    if _unskewed(layout, time_increment, velocity):
+        return points
+    bearing = np.arctan2(points[:, 1], points[:, 0])
+    bearing -= layout.angle_min
+    if layout.ring:
+        bearing %= 2.0 * np.pi
+    beam = np.clip(bearing / layout.increment, 0.0, layout.count - 1.0, out=bearing)
+    tau = (beam - 0.5 * (layout.count - 1)) * time_increment  # s
+    return _turn_and_shift(points, tau, velocity, 1.0)
+
+
+def _unskewed(layout: BeamLayout, time_increment: float, velocity: Motion) -> bool:
+    """The sensor moves less than ``NEGLIGIBLE_SKEW_M`` during half a scan (at
+    ``SKEW_REACH_M``), or all beams are measured at one instant."""
+    half_scan = 0.5 * layout.count * abs(time_increment)  # s
+    reach = abs(velocity.theta_rad) * SKEW_REACH_M + velocity.translation_m
+    return half_scan * reach < NEGLIGIBLE_SKEW_M
+
+
+def _turn_and_shift(
+    points: np.ndarray, tau: np.ndarray, velocity: Motion, sign: float
+) -> np.ndarray:
+    """Each point turned by ``sign * theta * tau`` and shifted by ``sign * t * tau``: shift
+    then turn for ``sign = -1`` (deskew), turn then shift for ``+1`` (skew).
+
+    The turn is at most a few degrees (a turn rate times half a scan): second-order
+    cosine and first-order sine err by under 1e-4 of the range there, for a third of
+    the cost of the trigonometry.
+    """
+    angle = (sign * velocity.theta_rad) * tau
+    cosine = 1.0 - 0.5 * angle * angle
+    x, y = points[:, 0], points[:, 1]
+    if sign < 0.0:
+        x = x - velocity.tx_m * tau
+        y = y - velocity.ty_m * tau
+    moved = np.empty_like(points)
+    np.subtract(cosine * x, angle * y, out=moved[:, 0])
+    np.add(angle * x, cosine * y, out=moved[:, 1])
+    if sign > 0.0:
+        moved[:, 0] += velocity.tx_m * tau
+        moved[:, 1] += velocity.ty_m * tau
+    return moved
+
+
+def move_scan(
+    points: np.ndarray,
+    beams: np.ndarray,
+    layout: BeamLayout,
+    motion: Motion,
+    before: tuple[float, Motion],
+    after: tuple[float, Motion],
+) -> np.ndarray:
+    """The points of one rotating scan where the next scan's beams see them, m.
+
+    :func:`deskew` with the earlier scan's timing, ``motion`` between the mid-scan frames,
+    then :func:`skew` with the later scan's, in one pass: the three turns add up, so each
+    point turns once, by ``theta + w_after tau_after - w_before tau_before``. The turn of
+    the translation during the later scan's skew is left out (under 1 cm at 1 m/s and
+    2 rad/s).
+
+    Args:
+        points: the earlier scan's points, its sensor frame, m, ``(k, 2)``.
+        beams: the beam each of them was measured on.
+        layout: the beams of both scans.
+        motion: the motion between the two mid-scan frames.
+        before: the earlier scan's time increment (s) and velocity (motion per second).
+        after: the later scan's.
+    """
+    (increment_before, velocity_before), (increment_after, velocity_after) = before, after
+    offsets = layout.mid_scan_offsets().take(beams)
+    tau = offsets * increment_before  # s
+    # the point lands about theta / increment beams away from where it was seen (on a ring,
+    # past the seam it is seen a scan period earlier or later)
+    landing = beams + motion.theta_rad / layout.increment
+    if layout.ring:
+        landing %= layout.count
+    else:
+        np.clip(landing, 0.0, layout.count - 1.0, out=landing)
+    tau_after = (landing - 0.5 * (layout.count - 1)) * increment_after
+    angle = motion.theta_rad + velocity_after.theta_rad * tau_after
+    angle -= velocity_before.theta_rad * tau
+    x = points[:, 0] - velocity_before.tx_m * tau
+    y = points[:, 1] - velocity_before.ty_m * tau
+    cosine, sine = np.cos(angle), np.sin(angle)
+    moved = np.empty_like(points)
+    moved[:, 0] = cosine * x - sine * y + (motion.tx_m + velocity_after.tx_m * tau_after)
+    moved[:, 1] = sine * x + cosine * y + (motion.ty_m + velocity_after.ty_m * tau_after)
+    return moved
+
+
+def unstretch(points: np.ndarray, tilt_rad: float) -> np.ndarray:
+    """Points of a plane tilted by ``tilt_rad`` as a level plane sees vertical structure.
+
+    A plane pitched by ``p`` meets a wall ``d`` ahead (or behind) at ``d / cos p`` along its
+    x axis: walls ahead and behind look farther, and a scan match reads a drive that did
+    not happen. Scaling x by ``cos p`` undoes it for vertical structure (roll's share,
+    along y, is second order).
+    """
+    if tilt_rad == 0.0 or math.isnan(tilt_rad):
+        return points
+    level = points.copy()
+    level[:, 0] *= math.cos(tilt_rad)
+    return level
 
 
 def coarse_turn(
@@ -70,9 +233,9 @@ def coarse_turn(
 ) -> int:
     """The beam shift of ``previous`` that best matches ``ranges`` (NaN: not compared).
 
-    The turn rate changes little between scans, so the shifts next to the ``expected``
-    one are tried first on every other beam; only when the best of them is at the edge of
-    that window are all shifts up to ``max_shift`` tried, on every fourth beam.
+    The shifts next to the ``expected`` one are tried first on every other beam; only when
+    the best of them is at the edge of that window are all shifts up to ``max_shift``
+    tried, on every fourth beam.
     """
     near = np.arange(expected - NEAR_SHIFTS, expected + NEAR_SHIFTS + 1)
     best = _best_shift(ranges, previous, near, layout, 2)
@@ -88,78 +251,91 @@ def _best_shift(
     """The shift with the least clipped range difference over every ``stride``-th beam."""
     beams, source = layout.shift_table(int(shifts[0]), len(shifts), stride)
     values = previous if layout.ring else np.concatenate((previous, [np.nan]))  # -1: outside, NaN
-    # |previous - ranges| clipped at CLIP_M, in one buffer (fmin: NaN -> CLIP_M)
     cost = values.take(source)
     cost -= ranges.take(beams)
     np.fmin(np.abs(cost, out=cost), CLIP_M, out=cost)
     return int(shifts[np.add.reduce(cost, axis=1).argmin()])  # ties: the lowest shift
 
 
+def prior_weights(spread: tuple[float, float]) -> np.ndarray:
+    """Pseudo-observation weights of a prior with spreads (turn rad, translation m)."""
+    turn, shift = max(spread[0], 1e-4), max(spread[1], 1e-3)
+    return np.diag((ROW_NOISE_M / np.array([turn, shift, shift])) ** 2)
+
+
 def estimate_motion(
     points: np.ndarray,
     directions: np.ndarray,
-    previous_points: np.ndarray,
+    reference_points: np.ndarray,
     layout: BeamLayout,
-    max_shift: int,
+    shift: int,
     association_m: float,
-    prior: Motion | None = None,
+    prior: Motion,
+    spread: tuple[float, float],
 ) -> Motion:
-    """The sensor's motion from the previous scan to this one.
+    """The sensor's motion from the reference scan to this one, refined from a coarse turn.
 
     Args:
         points: this scan's points per beam, sensor frame, m, ``(n, 2)``; NaN rows where
             the beam has no usable return.
         directions: local line direction per beam, rad, ``(n,)``; NaN where unknown.
-        previous_points: the previous scan's points per beam, NaN rows where unusable.
+        reference_points: the reference scan's points per beam, NaN rows where unusable.
         layout: the beams of both scans.
-        max_shift: largest turn searched, beams.
+        shift: the coarse turn, beams (:func:`coarse_turn`).
         association_m: pairs farther apart than this after the coarse turn are unused, m.
-        prior: the motion expected (the previous one), or None for no motion.
+        prior: the motion expected (odometry, or the previous motion at constant velocity).
+        spread: the prior's spread: (turn, rad; translation, m).
+
+    Returns:
+        The motion; ``pairs`` 0 and the prior itself when too few pairs were usable.
     """
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    previous_ranges = np.hypot(previous_points[:, 0], previous_points[:, 1])
-    expected = round(prior.theta_rad / layout.increment) if prior is not None else 0
-    expected = min(max(expected, -max_shift), max_shift)
-    shift = coarse_turn(ranges, previous_ranges, max_shift, layout, expected)
-    coarse = Motion(theta_rad=shift * layout.increment)
-    q = coarse.apply(layout.shifted(previous_points, shift))
+    # the coarse turn from the ranges; the translation from the prior, so that the pairs
+    # are found where the prior puts the reference points
+    coarse = Motion(shift * layout.increment, prior.tx_m, prior.ty_m)
+    q = coarse.apply(layout.shifted(reference_points, shift))
     step = points - q
     # NaN (no return, or a direction-less point) compares False: those beams sit out
     usable = np.hypot(step[:, 0], step[:, 1]) < association_m
     usable &= directions == directions
     rows = indices(usable)
     if rows.size < MIN_PAIRS:
-        return coarse
+        return prior
     angle = directions.take(rows)
     normal_x, normal_y = -np.sin(angle), np.cos(angle)
-    # rows by take(): fancy indexing of 2-D rows costs several times more
     a, d = q.take(rows, axis=0), step.take(rows, axis=0)
     design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
     np.subtract(normal_y * a[:, 0], normal_x * a[:, 1], out=design[:, 0])
     design[:, 1], design[:, 2] = normal_x, normal_y
     target = normal_x * d[:, 0] + normal_y * d[:, 1]
-    expected = np.zeros(3)
-    if prior is not None:
-        expected = np.array([prior.theta_rad - coarse.theta_rad, prior.tx_m, prior.ty_m])
-    solution = _solve(design, target, expected)
+    weights = prior_weights(spread)
+    expected_change = np.array([prior.theta_rad - coarse.theta_rad, 0.0, 0.0])
+    solution = _solve(design, target, expected_change, weights)
     # drop the worst fits (occlusion edges, moving things) once, and solve again
     residual = np.abs(design @ solution - target)
     middle = residual.size // 2
-    keep = indices(residual <= max(3.0 * float(np.partition(residual, middle)[middle]), 0.01))
-    if keep.size >= MIN_PAIRS:
-        solution = _solve(design.take(keep, axis=0), target.take(keep), expected)
-    d_theta, tx, ty = solution
-    return Motion(coarse.theta_rad + d_theta, tx, ty, int(keep.size))
+    median = float(np.partition(residual, middle)[middle])
+    keep = indices(residual <= max(3.0 * median, 0.01))
+    if keep.size < MIN_PAIRS:
+        return prior
+    design, target = design.take(keep, axis=0), target.take(keep)
+    solution = _solve(design, target, expected_change, weights)
+    residual = np.abs(design @ solution - target)
+    middle = residual.size // 2
+    median = float(np.partition(residual, middle)[middle])
+    fine = coarse.then(Motion(*solution))
+    return dataclasses.replace(fine, pairs=int(keep.size), residual_m=median)
 
 
-def _solve(design: np.ndarray, target: np.ndarray, expected: np.ndarray) -> tuple[float, ...]:
+def _solve(
+    design: np.ndarray, target: np.ndarray, expected: np.ndarray, weights: np.ndarray
+) -> tuple[float, ...]:
     """Least squares with the prior's pseudo-observations (normal equations, 3 x 3).
 
     The prior keeps the matrix positive definite; Cramer's rule on nine floats is cheaper
     than a LAPACK call at this size.
     """
-    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design + PRIOR_WEIGHTS).tolist()
-    r0, r1, r2 = (design.T @ target + PRIOR_WEIGHTS @ expected).tolist()
+    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design + weights).tolist()
+    r0, r1, r2 = (design.T @ target + weights @ expected).tolist()
     det = a * (e * i - f * f) - b * (b * i - f * c) + c * (b * f - e * c)
     x0 = r0 * (e * i - f * f) - b * (r1 * i - f * r2) + c * (r1 * f - e * r2)
     x1 = a * (r1 * i - f * r2) - r0 * (b * i - f * c) + c * (b * r2 - r1 * c)

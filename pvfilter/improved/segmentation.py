@@ -10,35 +10,37 @@ scan order (not across a range jump), and a segment is a run of consecutive poin
 - all lie on a line across the direction of travel (local direction within
   ``line_angle_deg`` of the sensor's y axis), or all do not.
 
-So a floor line and the side wall it runs into fall into different segments at the
-corner. Each segment then gets a total-least-squares line: its normal, its distance from
-the sensor, and what tilt and roll of the scan plane would put the floor there.
+The neighbourhood is a chord of about ``chord_m``: near the sensor, where the range noise
+is large against the beam spacing, it spans more beams. Each segment then gets a
+total-least-squares line: its normal, its distance from the sensor, its spread along the
+line and across it.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
-import math
 
 import numpy as np
 
 from pvfilter.improved.params import ImprovedParams
 
+MIN_HALF_WIDTH = 3  # beams: the chord spans at least this many neighbours on each side
+MAX_HALF_WIDTH = 40  # beams: and at most this many (20 deg at 2 beams per degree)
+
 
 def local_directions(
-    points: np.ndarray, half_width: int, runs: np.ndarray | None = None
+    points: np.ndarray, half_width: np.ndarray | int, runs: np.ndarray | None = None
 ) -> np.ndarray:
     """Direction of the line through each point's neighbourhood in scan order, rad.
 
     The chord from the point ``half_width`` before to the one ``half_width`` after (fewer
-    at the ends of the scan or of a run): on a line of points with noise ``sigma`` spaced
-    ``s`` apart, its angle errs by about ``sigma / (half_width * s)``, a few degrees, and it
-    costs a few array operations.
+    at the ends of the scan or of a run): on a line of points with noise ``sigma`` and a
+    chord of length ``L``, its angle errs by about ``sigma / L``.
 
     Args:
         points: valid points in beam order, sensor frame, m, shape ``(m, 2)``.
-        half_width: neighbours on each side, points.
+        half_width: neighbours on each side, points (one for all, or one per point).
         runs: run id per point (ascending); a chord never reaches into another run
             (across a range jump). None: one run.
 
@@ -62,6 +64,12 @@ def local_directions(
     np.subtract(angle, np.pi, out=angle, where=angle > 0.5 * np.pi)
     np.add(angle, np.pi, out=angle, where=angle <= -0.5 * np.pi)
     return angle
+
+
+def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
+    """Neighbours on each side that make a chord of about ``chord_m`` at each range, beams."""
+    beams = np.ceil(0.5 * chord_m / (np.maximum(ranges, 1e-3) * increment))
+    return np.clip(beams, MIN_HALF_WIDTH, MAX_HALF_WIDTH).astype(np.intp)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -88,8 +96,8 @@ class Segments:
         return int(self.sizes.size)
 
     @functools.cached_property
-    def _fit(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Centroids, unit normals and distances from the sensor of the fitted lines."""
+    def _fit(self) -> tuple[np.ndarray, ...]:
+        """Centroids, unit normals, distances and the two spreads of the fitted lines."""
         k, labels, x, y = len(self), self.labels, self.points[:, 0], self.points[:, 1]
         mean_x = np.bincount(labels, x, k) / self.sizes
         mean_y = np.bincount(labels, y, k) / self.sizes
@@ -100,7 +108,9 @@ class Segments:
         angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
         normals = np.stack((-np.sin(angle), np.cos(angle)), axis=1)
         distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
-        return np.stack((mean_x, mean_y), axis=1), normals, distances
+        half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
+        along, across = half_sum + root, np.maximum(half_sum - root, 0.0)
+        return np.stack((mean_x, mean_y), axis=1), normals, distances, along, across
 
     @property
     def centroids(self) -> np.ndarray:
@@ -117,38 +127,41 @@ class Segments:
         """Distance of each segment's fitted line from the sensor, m, ``(k,)``."""
         return self._fit[2]
 
-    def implied_tilt_roll(self, lidar_height_m: float) -> tuple[np.ndarray, np.ndarray]:
-        """Tilt and roll of the scan plane that would put the floor on each line, rad.
+    @property
+    def spread_along(self) -> np.ndarray:
+        """Variance of each segment's points along its line, m^2 (length^2 / 12)."""
+        return self._fit[3]
 
-        For pitch p and roll r the floor line is ``x sin p - y cos p sin r = h``: a line
-        at ``h / sin(tilt)`` whose normal leans from the x axis by about ``r / tilt``.
-        Lines nearer than ``h`` get a tilt of pi/2.
-        """
-        ratio = np.minimum(lidar_height_m / np.maximum(self.distances, 1e-9), 1.0)
-        tilt = np.arcsin(ratio)
-        roll = np.arcsin(np.minimum(np.sin(tilt) * np.abs(self.normals[:, 1]), 1.0))
-        return tilt, roll
+    @property
+    def spread_across(self) -> np.ndarray:
+        """Variance of each segment's points across its line, m^2 (noise, curvature)."""
+        return self._fit[4]
 
 
-def segment_scan(points: np.ndarray, beams: np.ndarray, params: ImprovedParams) -> Segments:
+def segment_scan(
+    points: np.ndarray, beams: np.ndarray, increment: float, params: ImprovedParams
+) -> Segments:
     """Cut the valid points of a scan into segments (their lines are fitted on demand).
 
     Args:
         points: valid points in beam order, sensor frame, m, ``(m, 2)``.
         beams: their beam indices, ascending.
-        params: ``local_fit_beams``, ``line_angle_deg`` and ``break_distance_m`` are used.
+        increment: angle between beams, rad.
+        params: ``chord_m``, ``line_angle_deg`` and ``break_distance_m`` are used.
     """
     m = len(points)
     if m == 0:
         empty = np.zeros(0, dtype=np.intp)
         return Segments(beams, points, empty, np.zeros(0), np.zeros(0, bool), empty)
+    ranges = np.hypot(points[:, 0], points[:, 1])
     step = points[1:] - points[:-1]
     gap = np.hypot(step[:, 0], step[:, 1])
-    jumps = gap > params.break_distance_m + 0.02 * np.hypot(points[1:, 0], points[1:, 1])
+    jumps = gap > params.break_distance_m + 0.02 * ranges[1:]
     runs = np.zeros(m, dtype=np.intp)
     np.cumsum(jumps, out=runs[1:])
-    directions = local_directions(points, params.local_fit_beams, runs)
-    across = np.abs(np.sin(directions)) > math.cos(math.radians(params.line_angle_deg))
+    half_widths = chord_half_widths(ranges, increment, params.chord_m)
+    directions = local_directions(points, half_widths, runs)
+    across = np.abs(np.sin(directions)) > np.cos(np.radians(params.line_angle_deg))
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1
     labels = np.zeros(m, dtype=np.intp)
     labels[cuts] = 1

@@ -59,11 +59,13 @@ SPACE: tuple[Dimension, ...] = (
     Dimension("max_event_s", 0.5, 5.0, log=True),
     Dimension("max_roll_deg", 1.0, 10.0, log=True),
     Dimension("line_angle_deg", 15.0, 50.0),
-    Dimension("local_fit_beams", 3, 10, integer=True),
+    Dimension("chord_m", 0.15, 0.6),
     Dimension("break_distance_m", 0.1, 0.5),
     Dimension("min_points", 3, 12, integer=True),
     Dimension("extend_tolerance_m", 0.02, 0.15),
     Dimension("up_side_weight", 0.0, 1.0),
+    Dimension("line_length_m", 0.3, 1.5),
+    Dimension("confirm_free_s", 0.1, 0.6),
     Dimension("association_m", 0.1, 0.5),
 )
 

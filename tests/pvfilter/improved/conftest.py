@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from pvfilter.scan import Scan
 from pvfilter.synthetic import BLOCKED_SECTOR, ray_cast, room_segments, segment_scan
 
 HEIGHT_M = 0.25  # the scan plane's height above the floor, m
@@ -68,3 +69,51 @@ def pitch_event(start: int, length: int, peak_deg: float):
         return math.radians(peak_deg) * math.sin(math.pi * phase)
 
     return pitch
+
+
+def tilted_scan(
+    pose=(0.0, 0.0, 0.0),
+    pitch_rad: float = 0.0,
+    roll_rad: float = 0.0,
+    height_m: float = HEIGHT_M,
+    ceiling_m: float | None = None,
+    walls: np.ndarray = ROOM,
+    stamp: float = 0.0,
+    beams: int = 720,
+):
+    """A scan cast in 3D: the plane ``height_m`` above the floor, pitched (nose down > 0)
+    and rolled (left side up > 0), in a room of vertical walls with a floor at z = 0 and,
+    if given, a ceiling at ``ceiling_m``. No noise; the blocked sector is -inf.
+
+    Returns:
+        The scan, and per beam what it hit: 0 nothing, 1 a wall, 2 the floor, 3 the ceiling.
+    """
+    increment = 2.0 * math.pi / beams
+    angles = -math.pi + increment * np.arange(beams)
+    cp, sp, cr, sr = (
+        math.cos(pitch_rad),
+        math.sin(pitch_rad),
+        math.cos(roll_rad),
+        math.sin(roll_rad),
+    )
+    # the beam (cos a, sin a, 0) of the sensor frame in the level frame: Ry(pitch) Rx(roll)
+    x, y = np.cos(angles), np.sin(angles)
+    dx, dy, dz = cp * x + sp * sr * y, cr * y, -sp * x + cp * sr * y
+    horizontal = np.hypot(dx, dy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_wall = ray_cast(to_sensor(walls, pose), np.arctan2(dy, dx)) / horizontal
+        t_floor = np.where(dz < 0.0, -height_m / dz, np.inf)
+        t_ceiling = np.full(beams, np.inf)
+        if ceiling_m is not None:
+            t_ceiling = np.where(dz > 0.0, (ceiling_m - height_m) / dz, np.inf)
+    hits = np.stack((np.full(beams, np.inf), t_wall, t_floor, t_ceiling))
+    labels = np.argmin(hits, axis=0)
+    ranges = hits.min(axis=0)
+    ranges[ranges > 12.0] = np.inf
+    labels[~np.isfinite(ranges)] = 0
+    blocked = (angles >= BLOCKED_SECTOR[0]) & (angles <= BLOCKED_SECTOR[1])
+    ranges[blocked] = -np.inf
+    labels[blocked] = 0
+    scan = Scan(ranges=ranges, angle_min=-math.pi, angle_increment=increment, range_min=0.05,
+                range_max=12.0, stamp=stamp, scan_time=0.1)  # fmt: skip
+    return scan, labels

@@ -16,9 +16,9 @@ from pvfilter import (
     ScanFilter,
     StampWentBackWarning,
 )
-from pvfilter.synthetic import room_sequence
+from pvfilter.synthetic import room_segments, room_sequence
 
-from .conftest import HEIGHT_M, pitch_event, room_scan
+from .conftest import HEIGHT_M, pitch_event, room_scan, tilted_scan
 
 CLUTTER = np.array([[[1.5, 1.0], [2.0, 1.2]], [[-2.0, -1.0], [-1.2, -1.6]]])  # world, m
 
@@ -94,7 +94,8 @@ def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
 
 def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
     # the robot leans for 1.6 s, 2.7 m from the wall ahead: the floor line ramps in over 3
-    # frames and then stays 2.4 m ahead, only 0.3 m in front of the wall
+    # frames and then stays 2.4 m ahead, only 0.3 m in front of the wall. A tilted scan
+    # does not teach the level view, so the line stays new, held behind or not
     def lean(k):
         return math.radians(6.0) * min(max(k - 9, 0), 3) / 3 if k < 28 else 0.0
 
@@ -102,31 +103,78 @@ def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
         for k in range(34):
             yield room_scan((1.3, 0.0, 0.0), lean(k), stamp=0.1 * k, seed=k), lean(k)
 
-    for hold, kept_throughout in ((True, True), (False, False)):
+    for hold in (True, False):
         params = ImprovedParams(lidar_height_m=HEIGHT_M, hold_behind_lines=hold)
         results, truth = run(ImprovedPitchVariationFilter(params), frames())
         removed, positive = np.array([r.removed for r in results]), np.array(truth)
         recall = [(removed[k] & positive[k]).sum() / positive[k].sum() for k in range(12, 28)]
-        assert (min(recall) >= 0.9) == kept_throughout, (hold, np.round(recall, 2))
+        assert min(recall) >= 0.9, (hold, np.round(recall, 2))
+        assert not removed[28:].any()  # level again: nothing left to remove
 
 
-def test_the_imu_option_removes_the_predicted_floor():
-    results, truth = run(ImprovedPitchVariationFilter(), drive(), imu=True)
+def test_the_imu_option_supports_the_predicted_floor():
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    results, truth = run(ImprovedPitchVariationFilter(params), drive(), imu=True)
     removed, positive = np.array([r.removed for r in results]), np.array(truth)
-    assert (removed & positive).sum() >= 0.98 * positive.sum()  # the first frame too
+    assert (removed & positive).sum() >= 0.8 * positive.sum()
     assert precision(removed, positive) > 0.97
 
 
-def test_structure_that_was_there_is_kept_and_new_structure_across_is_removed():
-    # a door closes 3 m ahead, across the direction of travel, in space seen free: the
-    # filter cannot tell it from a floor line (a limit, shown here); once seen, it stays
+def test_a_biased_lagging_imu_does_not_turn_walls_into_floor():
+    # the IMU reads 1.5 deg nose down while the robot drives level: no floor line is
+    # anywhere near (h / sin 1.5 deg is 9.5 m), and nothing is removed
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(20):
+        scan, _ = room_scan((-1.0 + 0.06 * k, 0.0, 0.0), stamp=0.1 * k, seed=k, extra=CLUTTER)
+        assert not pvf.process(scan, pitch_rad=math.radians(1.5)).removed.any()
+
+
+def test_a_time_gap_starts_afresh_and_removes_nothing():
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(5):
+        pvf.process(room_scan(stamp=0.1 * k, seed=k)[0])
+    # a floor line after a gap longer than max_gap_s: nothing to compare it with
+    late, on_floor = room_scan(pitch_rad=math.radians(8.0), stamp=0.4 + 2.0 * params.max_gap_s)
+    result = pvf.process(late)
+    assert on_floor.sum() > 50 and not result.removed.any() and result.lines.new_sequence
+    # a low-rate log: scans 0.7 s apart, the sensor driving and turning between them
+    pvf.reset()
+    for k in range(10):
+        pose = (-1.0 + 0.3 * k, 0.2 * math.sin(k), 0.4 * k)
+        assert not pvf.process(
+            room_scan(pose, stamp=0.7 * k, seed=k, extra=CLUTTER)[0]
+        ).removed.any()
+
+
+def test_the_odometry_carries_the_motion_where_the_walls_do_not_show_it():
+    # a corridor with its ends out of range: the robot speeds up through a pitch event;
+    # from the scans alone the drive along the corridor is unseen, the odometry gives it
+    corridor = room_segments(30.0, 30.0, 1.2, 1.2)
+    speeds = [0.0] * 5 + [0.03, 0.06, 0.09, 0.12, 0.15] + [0.15] * 3  # m per scan
+    pitch = [0.0] * 5 + [math.radians(a) for a in (6, 10, 12, 10, 6)] + [0.0] * 3
+    x = np.cumsum([0.0, *speeds[:-1]])
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(len(speeds)):
+        scan, hit = tilted_scan((x[k], 0.0, 0.0), pitch[k], walls=corridor, stamp=0.1 * k)
+        result = pvf.process(scan, pose_sensor_in_odom=(x[k], 0.0, 0.0))
+        if k:  # (the scans pull a little: the corners where the floor line meets the walls)
+            assert result.lines.motion.tx_m == pytest.approx(-(x[k] - x[k - 1]), abs=0.025), k
+        floor = hit == 2
+        assert (result.removed & floor).sum() >= 0.9 * floor.sum()
+        assert result.removed[~floor].sum() <= 3  # those corners
+
+
+def test_new_structure_beside_open_space_and_structure_seen_before_are_kept():
+    # a door closes 2 m ahead, across the direction of travel, in space seen free; the
+    # room goes on beside it, which a floor line would have hidden: it is not removed
     door = np.array([[[2.0, -0.5], [2.0, 0.5]]])
     pvf = ImprovedPitchVariationFilter()
     for k in range(5):
         pvf.process(room_scan(stamp=0.1 * k, seed=k)[0])
-    result = pvf.process(room_scan(stamp=0.5, extra=door, seed=9)[0])
-    ahead = np.abs(result.scan.angles()) < math.radians(10.0)
-    assert result.removed[ahead].any()  # it is in free space, and across: removed
+    assert not pvf.process(room_scan(stamp=0.5, extra=door, seed=9)[0]).removed.any()
     pvf.reset()
     for k in range(5):
         pvf.process(room_scan(stamp=0.1 * k, extra=door, seed=k)[0])

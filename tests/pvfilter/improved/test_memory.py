@@ -1,39 +1,45 @@
-"""The level-view memory: moved with the sensor, shrinking at a bounded rate, forgetting."""
+"""The level-view memory: moved with the sensor, taught by level scans only, forgetting."""
 
+import dataclasses
 import math
 
 import numpy as np
 
-from pvfilter.improved import (
-    BeamLayout,
-    ImprovedParams,
-    LevelMemory,
-    Motion,
-    free_space_gaps,
-    new_points,
-)
+from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion
 
 from .conftest import room_scan
 
 PARAMS = ImprovedParams()
 
 
+def ranges_of(scan):
+    return np.where(scan.valid_mask(), scan.ranges, np.nan)
+
+
 def remembered(scan, params=PARAMS):
     memory = LevelMemory()
-    memory.update(ranges_of(scan), np.isposinf(scan.ranges), None, 0.0, params)
+    memory.update(ranges_of(scan), np.isposinf(scan.ranges), None, 0.0, params, True)
     return memory
 
 
-def ranges_of(scan):
-    return np.where(scan.valid_mask(), scan.ranges, np.nan)
+STILL = Motion()
+
+
+def view_of(memory, scan, motion=STILL, params=PARAMS):
+    return memory.view(BeamLayout.of(scan), 12.0, motion, STILL, 0.0, params)
+
+
+def step(memory, scan, dt=0.1, params=PARAMS, level=True, hold=None):
+    view = view_of(memory, scan, params=params)
+    memory.update(ranges_of(scan), np.isposinf(scan.ranges), view, dt, params, level, hold)
+    return view
 
 
 def test_the_view_follows_the_sensor_forward():
     before, _ = room_scan(noise_m=0.0)
     after, _ = room_scan((0.3, 0.0, 0.0), noise_m=0.0)
-    layout = BeamLayout.of(before)
     # the sensor moved 0.3 m forward: static points move 0.3 m back in its frame
-    view = remembered(before).view(layout, 12.0, Motion(tx_m=-0.3), PARAMS)
+    view = view_of(remembered(before), before, Motion(tx_m=-0.3))
     ahead = np.abs(before.angles()) < math.radians(20.0)
     np.testing.assert_allclose(view.ranges[ahead], after.ranges[ahead], atol=0.01)
 
@@ -41,74 +47,77 @@ def test_the_view_follows_the_sensor_forward():
 def test_the_view_follows_the_sensor_turning():
     before, _ = room_scan(noise_m=0.0)
     after, _ = room_scan((0.0, 0.0, math.radians(10.0)), noise_m=0.0)
-    view = remembered(before).view(BeamLayout.of(before), 12.0, Motion(math.radians(-10.0)), PARAMS)
+    view = view_of(remembered(before), before, Motion(math.radians(-10.0)))
     both = np.isfinite(view.ranges) & np.isfinite(ranges_of(after))
     assert np.count_nonzero(both) > 400
     assert np.median(np.abs(view.ranges[both] - after.ranges[both])) < 0.01
 
 
-def test_a_floor_line_in_front_of_the_walls_is_new_and_the_walls_are_not():
-    level, _ = room_scan(noise_m=0.0)
-    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
-    layout = BeamLayout.of(level)
-    view = remembered(level).view(layout, 12.0, Motion(), PARAMS)
-    gaps = free_space_gaps(ranges_of(pitched), view.ranges, layout, PARAMS)
-    new = new_points(gaps, ranges_of(pitched), PARAMS.free_margin_m, PARAMS.free_margin_rel)
-    assert on_floor.sum() > 50
-    assert new[on_floor].mean() > 0.9 and not new[~on_floor].any()
-
-
-def test_the_view_comes_closer_at_most_at_the_shrink_rate():
+def test_a_tilted_scan_does_not_teach_the_view():
     level, _ = room_scan(noise_m=0.0)
     pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
     memory = remembered(level)
-    layout = BeamLayout.of(level)
-    view = memory.view(layout, 12.0, Motion(), PARAMS)
-    memory.update(ranges_of(pitched), np.isposinf(pitched.ranges), view, 0.1, PARAMS)
+    view = step(memory, pitched, level=False)
+    np.testing.assert_array_equal(memory.state.ranges, view.ranges)
+    np.testing.assert_array_equal(memory.state.ages, view.ages)  # its clock stands still
+    # but it still settles, where the line is in front by more than a shrink step
+    deep = on_floor & (level.ranges - pitched.ranges > PARAMS.memory_shrink_mps * 0.1)
+    assert deep.sum() > 100 and (memory.state.ahead_s[deep] == 0.1).all()
+
+
+def test_a_level_return_in_front_comes_closer_at_most_at_the_shrink_rate():
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    memory = remembered(level)
+    view = step(memory, pitched)  # taken as level: e.g. a person stepping in
     shrunk = view.ranges[on_floor] - memory.state.ranges[on_floor]
-    step = PARAMS.memory_shrink_mps * 0.1
-    assert (shrunk <= step + 1e-9).all()
-    assert np.mean(np.abs(shrunk - step) < 1e-9) > 0.95  # all but where the line meets a wall
+    assert np.mean(np.abs(shrunk - PARAMS.memory_shrink_mps * 0.1) < 1e-9) > 0.95
 
 
 def test_the_view_holds_behind_a_possible_floor_line():
     level, _ = room_scan(noise_m=0.0)
     pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
-    memory, layout = remembered(level), BeamLayout.of(level)
-    view = memory.view(layout, 12.0, Motion(), PARAMS)
-    memory.update(ranges_of(pitched), np.isposinf(pitched.ranges), view, 0.1, PARAMS, on_floor)
+    memory = remembered(level)
+    view = step(memory, pitched, hold=on_floor)
     np.testing.assert_array_equal(memory.state.ranges[on_floor], view.ranges[on_floor])
-    assert (memory.state.ahead_s[on_floor] == 0.1).all()  # it still settles after an event
+
+
+def test_space_seen_free_joins_the_view_only_once_confirmed():
+    # a box in front of the sensor goes away: the wall behind it is seen for 0.3 s
+    box = np.array([[[1.0, -0.4], [1.0, 0.4]]])
+    with_box, _ = room_scan(extra=box, noise_m=0.0)
+    without, _ = room_scan(noise_m=0.0)
+    ahead = np.abs(without.angles()) < math.radians(5.0)
+    memory = remembered(with_box)
+    for k, expected in enumerate((1.0, 1.0, 4.0)):  # confirm_free_s = 0.25 s: 3 scans
+        step(memory, without)
+        np.testing.assert_allclose(memory.state.ranges[ahead], expected / np.cos(
+            without.angles()[ahead]), atol=1e-6, err_msg=f"scan {k}")  # fmt: skip
 
 
 def test_a_return_in_front_for_longer_than_an_event_replaces_the_view():
-    params = ImprovedParams(max_event_s=0.3)
+    params = dataclasses.replace(PARAMS, max_event_s=0.3)
     level, _ = room_scan(noise_m=0.0)
     pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
-    memory, layout = remembered(level, params), BeamLayout.of(level)
-    for _ in range(4):  # 0.4 s in front of the view
-        view = memory.view(layout, 12.0, Motion(), params)
-        memory.update(ranges_of(pitched), np.isposinf(pitched.ranges), view, 0.1, params)
-    np.testing.assert_allclose(memory.state.ranges[on_floor], pitched.ranges[on_floor])
+    memory = remembered(level, params)
+    for _ in range(4):  # 0.4 s in front of the view, even while tilted
+        step(memory, pitched, params=params, level=False)
+    deep = on_floor & (level.ranges - pitched.ranges > params.memory_shrink_mps * 0.1)
+    np.testing.assert_allclose(memory.state.ranges[deep], pitched.ranges[deep])
 
 
 def test_a_view_without_a_return_for_too_long_is_forgotten():
-    params = ImprovedParams(memory_timeout_s=0.25)
+    params = dataclasses.replace(PARAMS, memory_timeout_s=0.25)
     level, _ = room_scan(noise_m=0.0)
-    blind = np.full(len(level), np.nan)
-    memory, layout = remembered(level, params), BeamLayout.of(level)
+    blind = level.with_ranges(np.full(len(level), np.nan))
+    memory = remembered(level, params)
     for _ in range(3):
-        view = memory.view(layout, 12.0, Motion(), params)
-        memory.update(blind, np.zeros(len(level), bool), view, 0.1, params)
-    assert np.isnan(memory.view(layout, 12.0, Motion(), params).ranges).all()
+        step(memory, blind, params=params)
+    assert np.isnan(view_of(memory, level, params=params).ranges).all()
 
 
 def test_no_return_remembers_free_space():
     level, _ = room_scan(noise_m=0.0)
-    ranges = np.full(len(level), np.inf)
-    memory = LevelMemory()
-    memory.update(np.full(len(level), np.nan), np.isposinf(ranges), None, 0.0, PARAMS)
-    view = memory.view(BeamLayout.of(level), 12.0, Motion(), PARAMS)
+    open_space = level.with_ranges(np.full(len(level), np.inf))
+    view = view_of(remembered(open_space), level)
     assert np.isposinf(view.ranges).all()
-    gaps = free_space_gaps(ranges_of(level), view.ranges, BeamLayout.of(level), PARAMS)
-    assert new_points(gaps, ranges_of(level), 0.15, 0.03)[level.valid_mask()].all()

@@ -1,4 +1,4 @@
-"""Ego-motion from two scans: the turn to the nearest beam, then a point-to-line fit."""
+"""Motion: the scan match, composing motions, a rotating scan's skew, unstretching."""
 
 import math
 
@@ -6,13 +6,20 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, Motion, estimate_motion, segment_scan
-from pvfilter.improved.motion import coarse_turn
+from pvfilter.improved.motion import (
+    coarse_turn,
+    deskew,
+    move_scan,
+    odometry_motion,
+    skew,
+)
 
 from .conftest import room_scan
 
 CLUTTER = np.array(  # furniture in the room, world frame, m
     [[[1.5, 1.0], [2.0, 1.2]], [[-2.0, -1.0], [-1.2, -1.6]], [[0.5, -2.0], [1.5, -1.4]]]
 )
+SPREAD = (0.01, 0.03)  # a weak prior: (turn rad, translation m)
 
 
 def inputs(scan):
@@ -21,8 +28,27 @@ def inputs(scan):
     points = layout.points(np.where(valid, scan.ranges, np.nan))
     beams = np.flatnonzero(valid)
     directions = np.full(len(scan), np.nan)
-    directions[beams] = segment_scan(points[beams], beams, ImprovedParams()).directions
+    segments = segment_scan(points[beams], beams, layout.increment, ImprovedParams())
+    directions[beams] = segments.directions
     return layout, points, directions
+
+
+STILL = Motion()
+
+
+def match(before, after, prior=STILL):
+    layout, reference, _ = inputs(before)
+    _, points, directions = inputs(after)
+    ranges, reference_ranges = np.hypot(*points.T), np.hypot(*reference.T)
+    shift = coarse_turn(ranges, reference_ranges, 20, layout, expected=0)
+    return estimate_motion(points, directions, reference, layout, shift, 0.3, prior, SPREAD)
+
+
+def expected_motion(pose):
+    """A static point q of the first frame is at R(theta) q + t in the second."""
+    x, y, yaw = pose
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    return Motion(-yaw, -(c * x - s * y), -(s * x + c * y))
 
 
 @pytest.mark.parametrize(
@@ -33,16 +59,10 @@ def inputs(scan):
 def test_estimate_recovers_the_sensor_motion(pose):
     before, _ = room_scan((0.0, 0.0, 0.0), extra=CLUTTER, seed=1)
     after, _ = room_scan(pose, extra=CLUTTER, seed=2)
-    layout, previous, _ = inputs(before)
-    _, points, directions = inputs(after)
-    motion = estimate_motion(points, directions, previous, layout, 20, 0.3)
-    # a static point q of the first frame is at R(theta) q + t in the second
-    x, y, yaw = pose
-    c, s = math.cos(-yaw), math.sin(-yaw)
-    expected_t = (-(c * x - s * y), -(s * x + c * y))
-    assert motion.theta_rad == pytest.approx(-yaw, abs=math.radians(0.3))
-    assert (motion.tx_m, motion.ty_m) == pytest.approx(expected_t, abs=0.015)
-    assert motion.pairs > 100
+    motion, expected = match(before, after), expected_motion(pose)
+    assert motion.theta_rad == pytest.approx(expected.theta_rad, abs=math.radians(0.3))
+    assert (motion.tx_m, motion.ty_m) == pytest.approx((expected.tx_m, expected.ty_m), abs=0.015)
+    assert motion.pairs > 100 and motion.residual_m < 0.02
 
 
 def test_coarse_turn_finds_the_shift_of_a_turned_scan():
@@ -53,14 +73,68 @@ def test_coarse_turn_finds_the_shift_of_a_turned_scan():
     assert shift == 10  # 5 deg at 2 beams per degree: the world turns the other way
 
 
-def test_motion_moves_points_between_frames():
-    motion = Motion(theta_rad=math.pi / 2, tx_m=1.0, ty_m=0.0)
-    np.testing.assert_allclose(motion.apply(np.array([[1.0, 0.0]])), [[1.0, 1.0]], atol=1e-12)
+def test_motions_compose_and_invert():
+    a, b = Motion(0.3, 1.0, -0.5), Motion(-0.1, 0.2, 0.4)
+    q = np.array([[1.0, 2.0], [-3.0, 0.5]])
+    np.testing.assert_allclose(a.then(b).apply(q), b.apply(a.apply(q)), atol=1e-12)
+    np.testing.assert_allclose(a.inverse().apply(a.apply(q)), q, atol=1e-12)
+    np.testing.assert_allclose(Motion(math.pi / 2, 1.0, 0.0).apply(np.array([[1.0, 0.0]])),
+                               [[1.0, 1.0]], atol=1e-12)  # fmt: skip
+    assert a.scaled(0.5).theta_rad == 0.15 and a.translation_m == pytest.approx(math.hypot(1, 0.5))
 
 
-def test_too_few_pairs_keep_the_coarse_turn_only():
+def test_odometry_poses_give_the_motion_of_static_points():
+    # the sensor drives 1 m along its x axis after turning to 90 deg in the odom frame
+    before, after = np.array([2.0, 1.0, math.pi / 2]), np.array([2.0, 2.0, math.pi / 2])
+    motion = odometry_motion(before, after)
+    assert (motion.theta_rad, motion.tx_m, motion.ty_m) == pytest.approx((0.0, -1.0, 0.0))
+
+
+def test_too_few_pairs_return_the_prior():
     before, _ = room_scan()
     layout, previous, _ = inputs(before)
     nothing = np.full_like(previous, np.nan)
-    motion = estimate_motion(previous, np.full(len(before), np.nan), nothing, layout, 5, 0.3)
-    assert motion.pairs == 0 and (motion.tx_m, motion.ty_m) == (0.0, 0.0)
+    prior = Motion(0.01, 0.05, 0.0)
+    directions = np.full(len(before), np.nan)
+    motion = estimate_motion(previous, directions, nothing, layout, 0, 0.3, prior, SPREAD)
+    assert motion == prior and motion.pairs == 0
+
+
+def rotating_layout(beams=720):
+    scan, _ = room_scan()
+    return BeamLayout.of(scan), 0.1 / beams
+
+
+def test_deskew_undoes_the_skew_of_a_turning_and_driving_sensor():
+    layout, increment = rotating_layout()
+    velocity = Motion(-1.2, -0.8, 0.1)  # per second: turning left, driving forward
+    mid = layout.points(np.random.default_rng(0).uniform(0.5, 8.0, layout.count))
+    seen = skew(mid, layout, increment, velocity)
+    # away from the seam behind the sensor (a point there is seen a scan period apart)
+    inner = np.abs(np.arange(layout.count) - 359.5) < 300
+    assert np.abs(seen - mid).max() > 0.05  # the skew is not small
+    back = deskew(seen, layout, increment, velocity)
+    np.testing.assert_allclose(back[inner], mid[inner], atol=2e-3)
+
+
+def test_no_time_increment_or_no_motion_leaves_the_points():
+    layout, increment = rotating_layout()
+    points = layout.points(np.full(layout.count, 2.0))
+    assert deskew(points, layout, 0.0, Motion(-1.0, -1.0, 0.0)) is points
+    assert deskew(points, layout, increment, Motion()) is points
+
+
+def test_move_scan_is_deskew_motion_and_skew_in_one_pass():
+    layout, increment = rotating_layout()
+    rng = np.random.default_rng(1)
+    points = layout.points(rng.uniform(0.5, 8.0, layout.count))
+    before, after = (increment, Motion(-1.0, -0.8, 0.05)), (increment, Motion(-1.3, -1.0, 0.0))
+    motion = Motion(-0.1, -0.09, 0.01)
+    three = skew(motion.apply(deskew(points, layout, *before)), layout, *after)
+    one = move_scan(points, np.arange(layout.count), layout, motion, before, after)
+    inner = np.abs(np.arange(layout.count) - 359.5) < 300  # not across the seam
+    assert np.median(np.abs(three - one)[inner]) < 0.005
+    assert np.percentile(np.abs(three - one)[inner], 95) < 0.02
+    global_shutter = move_scan(points, np.arange(layout.count), layout, motion, (0.0, Motion()),
+                               (0.0, Motion()))  # fmt: skip
+    np.testing.assert_allclose(global_shutter, motion.apply(points), atol=1e-12)

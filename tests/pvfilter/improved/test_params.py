@@ -10,7 +10,12 @@ from pvfilter import ImprovedParams
 def test_defaults_are_valid_and_physical():
     params = ImprovedParams()
     assert params.lidar_height_m == 0.25 and 0.0 < params.p_th < 1.0
-    assert params.min_line_distance_m == pytest.approx(0.25 / math.sin(math.radians(45.0)))
+    # at 45 deg the scanner has come down from 0.25 m to 0.08 + 0.17 cos 45 deg about the axle
+    tilt = math.radians(45.0)
+    assert params.min_line_distance_m == pytest.approx(
+        (0.08 + 0.17 * math.cos(tilt)) / math.sin(tilt)
+    )
+    assert params.scanner_height_m(0.0) == pytest.approx(0.25)
 
 
 @pytest.mark.parametrize(
@@ -23,6 +28,10 @@ def test_defaults_are_valid_and_physical():
         ("ego_motion", 1, "ego_motion: must be true or false"),
         ("free_margin_m", float("nan"), "free_margin_m: must be finite"),
         ("axle_height_m", 0.5, "axle_height_m: must be <= lidar_height_m"),
+        ("min_ceiling_m", 0.2, "min_ceiling_m: must be > lidar_height_m"),
+        ("max_gap_s", 0.0, "max_gap_s: must be > 0 s"),
+        ("odom_slip", 2.0, "odom_slip: must be <= 1"),
+        ("line_length_m", -1.0, "line_length_m: must be >= 0 m"),
     ],
 )
 def test_invalid_values_raise_naming_the_field(field, value, message):
@@ -32,4 +41,5 @@ def test_invalid_values_raise_naming_the_field(field, value, message):
 
 def test_switches_that_turn_parts_off_are_accepted():
     ImprovedParams(memory_shrink_mps=float("inf"), max_event_s=float("inf"), extend_beams=0,
-                   spread=False, ego_motion=False)  # fmt: skip
+                   spread=False, ego_motion=False, max_gap_s=float("inf"),
+                   line_length_m=0.0)  # fmt: skip

@@ -1,4 +1,4 @@
-"""Segmentation: a floor line is cut from the wall it runs into; line fits and implied tilt."""
+"""Segmentation: a floor line is cut from the wall it runs into; chords of a fixed length."""
 
 import math
 
@@ -6,21 +6,31 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
-from pvfilter.improved.segmentation import local_directions
+from pvfilter.improved.segmentation import MAX_HALF_WIDTH, chord_half_widths, local_directions
+from pvfilter.synthetic import room_segments
 
-from .conftest import HEIGHT_M, room_scan
+from .conftest import HEIGHT_M, room_scan, tilted_scan
+
+INCREMENT = math.radians(0.5)
 
 
 def segments_of(scan, params=None):
     params = params if params is not None else ImprovedParams()
     beams = np.flatnonzero(scan.valid_mask())
-    return segment_scan(scan.points()[beams], beams, params), beams
+    return segment_scan(scan.points()[beams], beams, scan.angle_increment, params), beams
 
 
 def test_local_direction_of_a_straight_line_is_its_direction():
     points = np.column_stack((np.linspace(0.0, 2.0, 40), 0.5 * np.linspace(0.0, 2.0, 40)))
-    directions = local_directions(points, 4)
-    np.testing.assert_allclose(directions, math.atan(0.5), atol=1e-9)
+    np.testing.assert_allclose(local_directions(points, 4), math.atan(0.5), atol=1e-9)
+    per_point = np.full(40, 6)  # one half-width per point gives the same on a line
+    np.testing.assert_allclose(local_directions(points, per_point), math.atan(0.5), atol=1e-9)
+
+
+def test_the_chord_spans_more_beams_near_the_sensor():
+    widths = chord_half_widths(np.array([0.3, 1.0, 3.0, 20.0]), INCREMENT, 0.3)
+    # half of 0.3 m over the beam spacing r * increment, within [3, MAX_HALF_WIDTH]
+    assert widths.tolist() == [MAX_HALF_WIDTH, 18, 6, 3]
 
 
 def test_floor_line_and_the_side_walls_it_runs_into_are_different_segments():
@@ -31,41 +41,44 @@ def test_floor_line_and_the_side_walls_it_runs_into_are_different_segments():
     main = max(floor_labels, key=lambda s: np.count_nonzero(segments.labels == s))
     members = segments.labels == main
     assert np.count_nonzero(on_floor[beams][members]) >= 0.9 * np.count_nonzero(on_floor)
-    assert np.count_nonzero(~on_floor[beams][members]) <= 2
+    assert np.count_nonzero(~on_floor[beams][members]) <= 4
     assert segments.across[main]
 
 
-def test_implied_tilt_of_the_floor_line_is_the_pitch():
+@pytest.mark.parametrize("tilt_deg", [20.0, 30.0])
+def test_a_steep_floor_line_near_the_sensor_stays_one_segment_in_range_noise(tilt_deg):
+    # 0.5 m ahead, 2 cm noise against beam spacings of 4 mm: a chord of a few beams would
+    # read noise as direction and break the line into pieces
+    scan, hit = tilted_scan(pitch_rad=math.radians(tilt_deg), walls=room_segments(6, 4, 3, 3))
+    rng = np.random.default_rng(3)
+    noisy = scan.with_ranges(scan.ranges + rng.normal(0.0, 0.02, len(scan)))
+    segments, beams = segments_of(noisy)
+    on_floor = hit[beams] == 2
+    main = np.bincount(segments.labels[on_floor]).argmax()
+    assert np.count_nonzero(segments.labels[on_floor] == main) >= 0.85 * on_floor.sum()
+    assert segments.across[main]
+
+
+def test_the_fitted_line_of_a_floor_line_lies_h_over_sin_tilt_away():
     pitch = math.radians(6.0)
     scan, on_floor = room_scan(pitch_rad=pitch, noise_m=0.0)
     segments, beams = segments_of(scan)
     main = np.bincount(segments.labels[on_floor[beams]]).argmax()
-    tilt, roll = segments.implied_tilt_roll(HEIGHT_M)
-    assert tilt[main] == pytest.approx(pitch, abs=1e-6)
-    assert roll[main] == pytest.approx(0.0, abs=1e-6)
     assert segments.distances[main] == pytest.approx(HEIGHT_M / math.sin(pitch), abs=1e-6)
-
-
-def test_a_rolled_plane_leans_the_line_and_implies_the_roll():
-    pitch, roll = math.radians(8.0), math.radians(2.0)
-    # floor line of a plane with pitch and roll: x sin p - y cos p sin r = h
-    y = np.linspace(-1.0, 1.0, 60)
-    x = (HEIGHT_M + y * math.cos(pitch) * math.sin(roll)) / math.sin(pitch)
-    points = np.column_stack((x, y))
-    segments = segment_scan(points, np.arange(60), ImprovedParams())
-    tilt, implied_roll = segments.implied_tilt_roll(HEIGHT_M)
-    assert len(segments) == 1
-    assert implied_roll[0] == pytest.approx(roll, abs=2e-3)
-    assert tilt[0] == pytest.approx(math.hypot(pitch, roll), abs=2e-3)
+    assert abs(segments.normals[main, 1]) < 1e-6
+    # its spread along the line is the variance of the points' y; across it, none
+    members = segments.points[segments.labels == main]
+    assert segments.spread_along[main] == pytest.approx(np.var(members[:, 1]), rel=1e-6)
+    assert segments.spread_across[main] == pytest.approx(0.0, abs=1e-9)
 
 
 def test_range_jumps_split_segments():
     points = np.array([[1.0, y] for y in np.linspace(-0.3, 0.3, 10)]
                       + [[3.0, y] for y in np.linspace(0.4, 1.0, 10)])  # fmt: skip
-    segments = segment_scan(points, np.arange(20), ImprovedParams())
+    segments = segment_scan(points, np.arange(20), INCREMENT, ImprovedParams())
     assert len(segments) == 2 and segments.sizes.tolist() == [10, 10]
 
 
 def test_no_points_give_no_segments():
-    segments = segment_scan(np.zeros((0, 2)), np.zeros(0, dtype=int), ImprovedParams())
+    segments = segment_scan(np.zeros((0, 2)), np.zeros(0, dtype=int), INCREMENT, ImprovedParams())
     assert len(segments) == 0

@@ -1,0 +1,180 @@
+"""Ego-motion over a sequence: scan matching through pitch events, a prior, a trust check.
+
+During a pitch event a tilted plane sees the walls it still meets stretched along its x
+axis (by ``1 / cos(tilt)``): a plain scan match reads a drive that did not happen, the
+level view drifts, and when the robot levels the real wall in front looks new. So:
+
+- each scan is **unstretched** before it is matched against the previous one (stored
+  unstretched by its own tilt): its x axis is scaled by ``cos(tilt)``, the tilt being
+  the IMU's when given, else the previous scan's (the pitch changes little in a scan
+  time; the previous scan's tilt is that of its floor line);
+- the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
+  that grows with the step: the wheels slip on hard stops), else the last step at
+  constant velocity;
+- a match that is not to be **trusted** (too few pairs, a poor fit, a turn or a drive
+  faster than a robot of this class can, or far from the odometry) removes nothing: in the
+  middle of a pitch event the prior carries the motion (**coasting**) until a scan
+  matches again; otherwise the filter re-baselines.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.motion import (
+    MIN_PAIRS,
+    Motion,
+    coarse_turn,
+    estimate_motion,
+    odometry_motion,
+    unstretch,
+)
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments
+
+ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, besides slip
+ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip
+STEADY_TURN_RAD = 0.01  # rad: how much the turn may change in one step (constant velocity)
+STEADY_SHIFT_M = 0.03  # m: how much the translation may change in one step
+MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted
+ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is not trusted
+MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
+
+
+@dataclasses.dataclass(frozen=True)
+class Match:
+    """One scan's ego-motion.
+
+    Attributes:
+        step: the motion from the previous scan to this one.
+        trusted: the match can be trusted.
+        tilt_rad: the tilt the scan was unstretched by before the match, rad, >= 0.
+    """
+
+    step: Motion
+    trusted: bool
+    tilt_rad: float = 0.0
+
+
+class EgoMotion:
+    """The sensor's motion from scan to scan.
+
+    Args:
+        params: ``ego_motion``, ``max_yaw_rate_rad_s``, ``association_m``, ``odom_slip``
+            and ``max_tilt_deg`` are used.
+    """
+
+    def __init__(self, params: ImprovedParams) -> None:
+        self.params = params
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the scans so far (a new sequence, or a re-baseline)."""
+        self.reference: np.ndarray | None = None  # the last matched scan, unstretched
+        self.since_reference = Motion()  # its motion to the previous scan (coasting)
+        self.velocity = Motion()  # the last step, per second
+        self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
+        self.tilt = 0.0  # the previous scan's tilt, rad
+
+    def prior(self, dt: float, pose: np.ndarray | None) -> tuple[Motion, tuple[float, float]]:
+        """The step expected from the previous scan to this one, and its spread (rad, m)."""
+        if pose is not None and self.pose is not None:
+            step = odometry_motion(self.pose, pose)
+            slip = self.params.odom_slip
+            spread = (
+                ODOM_TURN_RAD + slip * abs(step.theta_rad),
+                ODOM_SHIFT_M + slip * step.translation_m,
+            )
+            return step, spread
+        return self.velocity.scaled(dt), (STEADY_TURN_RAD, STEADY_SHIFT_M)
+
+    def match(
+        self,
+        layout: BeamLayout,
+        points: np.ndarray,
+        segments: Segments,
+        dt: float,
+        prior: tuple[Motion, tuple[float, float]],
+        odometry: bool,
+        imu_tilt: float | None,
+    ) -> Match:
+        """Match a scan against the previous one.
+
+        Args:
+            layout: the beams.
+            points: the scan's points per beam in its mid-scan frame (NaN rows: none), m.
+            segments: its segments (their local directions).
+            dt: time since the previous scan, s.
+            prior: the expected step and its spread (from :meth:`prior`).
+            odometry: the prior is the wheel odometry's.
+            imu_tilt: the IMU's tilt, rad, or None.
+        """
+        step_prior, spread = prior
+        if not self.params.ego_motion:
+            return Match(Motion(), True)
+        max_tilt = math.radians(self.params.max_tilt_deg)
+        # the tilt: the IMU's, else the last scan's (the pitch changes little in a scan time)
+        guess = min(abs(imu_tilt) if imu_tilt is not None else self.tilt, max_tilt)
+        if self.reference is None:
+            return Match(step_prior, False, guess)
+        expected = self.since_reference.then(step_prior)
+        turn = min(self.params.max_yaw_rate_rad_s * dt, math.pi)
+        max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
+        level = unstretch(points, guess)
+        ranges = np.hypot(level[:, 0], level[:, 1])
+        reference_ranges = np.hypot(self.reference[:, 0], self.reference[:, 1])
+        first = min(max(round(expected.theta_rad / layout.increment), -max_shift), max_shift)
+        shift = coarse_turn(ranges, reference_ranges, max_shift, layout, first)
+        directions = np.full(layout.count, np.nan)
+        directions[segments.beams] = segments.directions
+        found = estimate_motion(
+            level,
+            directions,
+            self.reference,
+            layout,
+            shift,
+            self.params.association_m,
+            expected,
+            spread,
+        )
+        step = self.since_reference.inverse().then(found)
+        trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
+        trusted &= abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
+        trusted &= step.translation_m <= MAX_SPEED_MPS * dt + self.params.association_m
+        if odometry:
+            off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
+            off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
+            trusted &= off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
+            trusted &= off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+        if not trusted:  # what the prior expected, for a filter that coasts on it
+            return Match(step_prior, False, guess)
+        return Match(step, True, guess)
+
+    def coast(self, match: Match, tilt_rad: float) -> Match:
+        """Carry on with the prior where a match failed in a pitch event: the previous scan
+        stays the reference, and the motion since is what the prior expected."""
+        self.since_reference = self.since_reference.then(match.step)
+        self.tilt = tilt_rad
+        return dataclasses.replace(match, trusted=True)
+
+    def commit(
+        self,
+        points: np.ndarray,
+        moving: np.ndarray,
+        match: Match,
+        tilt_rad: float,
+        dt: float,
+        pose: np.ndarray | None,
+    ) -> None:
+        """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
+        beams (new, candidate lines) never take part in a match."""
+        self.reference = np.where(moving[:, None], np.nan, unstretch(points, tilt_rad))
+        self.since_reference = Motion()
+        if match.trusted and dt > 0.0:
+            self.velocity = match.step.scaled(1.0 / dt)
+        self.tilt = tilt_rad
+        self.pose = pose

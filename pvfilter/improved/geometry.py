@@ -1,0 +1,132 @@
+"""The geometry of a tilted scan plane: where it meets the floor and the ceiling.
+
+A scanner at height ``h_s`` whose plane is pitched by ``p`` (positive nose down) and
+rolled by ``r`` meets the floor along the line ``x sin p - y cos p sin r = h_s`` of its
+own frame: a straight line across the direction of travel at ``h_s / sin p`` (ahead when
+nose down, behind when nose up), whose normal leans from the x axis by ``atan(sin r /
+tan p)``. It meets a ceiling at height ``H`` on the other side, at ``(H - h_s) / sin p``,
+along a parallel line. ``h_s`` itself falls with the tilt as the robot tilts about its
+wheel axle: ``h_s = axle + (h - axle) cos p``.
+
+With a rotating LiDAR the beams of one line are measured over a few milliseconds, and a
+fast pitch change bends the line: its far end moves by ``d cot(p) * pitch_rate * dt``.
+
+And a plane tilted into the floor meets it along a whole line: every beam on that side
+ends at that line or nearer. A return beyond it shows the line is not the floor.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pvfilter.improved.beams import indices
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments
+
+HORIZON_M = 0.1  # m: how far beyond a floor line a return must be to show it is none
+HORIZON_POINTS = 5  # points: so many returns beyond it are not noise
+LEAN_SIGMAS = 3.0  # the lean of a fitted line may exceed the physical bound by this many
+# standard deviations of its fit
+
+
+def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:
+    """The tilt that puts the floor at ``distance_m`` from the sensor, rad (pi/2 nearer).
+
+    Solves ``d sin p = axle + (h - axle) cos p`` in closed form: with
+    ``R = hypot(d, h - axle)`` and ``phi = atan2(h - axle, d)``, ``p = phi + asin(axle / R)``.
+    """
+    arm = params.lidar_height_m - params.axle_height_m
+    reach = np.hypot(distance_m, arm)
+    ratio = np.minimum(params.axle_height_m / np.maximum(reach, 1e-9), 1.0)
+    tilt = np.arctan2(arm, distance_m) + np.arcsin(ratio)
+    return np.minimum(tilt, 0.5 * np.pi)
+
+
+def floor_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.ndarray:
+    """Distance from the sensor of the floor line of a plane tilted by ``tilt_rad``, m."""
+    tilt = np.maximum(np.abs(tilt_rad), 1e-6)
+    return params.scanner_height_m(tilt) / np.sin(tilt)
+
+
+def ceiling_min_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.ndarray:
+    """Nearest a ceiling (at least ``min_ceiling_m`` high) can be at that tilt, m."""
+    tilt = np.maximum(np.abs(tilt_rad), 1e-6)
+    return (params.min_ceiling_m - params.scanner_height_m(tilt)) / np.sin(tilt)
+
+
+def lean_ok(
+    sin_lean: np.ndarray,
+    tilt: np.ndarray,
+    distance: np.ndarray,
+    spread_along: np.ndarray,
+    spread_across: np.ndarray,
+    sizes: np.ndarray,
+    time_span_s: np.ndarray,
+    params: ImprovedParams,
+) -> np.ndarray:
+    """Per line: its normal leans from the x axis no more than physics allows.
+
+    The bound is the roll's lean, ``atan(sin(max_roll) / tan(tilt))``, plus the bend of a
+    rotating scan (the pitch changing by up to ``max_pitch_rate`` over the line's
+    ``time_span_s``, over its length), plus ``LEAN_SIGMAS`` standard deviations of the
+    fitted normal (``sqrt(across / (n * along))`` for ``n`` points).
+
+    Args:
+        sin_lean: sine of each line's lean from the x axis (``|n_y|``).
+        tilt: the tilt each line implies, rad.
+        distance: each line's distance from the sensor, m.
+        spread_along: variance of its points along it, m^2.
+        spread_across: variance of its points across it, m^2.
+        sizes: its points.
+        time_span_s: time between its first and last beam, s.
+        params: ``max_roll_deg`` and ``max_pitch_rate_rad_s``.
+    """
+    tan_tilt = np.tan(np.maximum(tilt, 1e-6))
+    roll_term = np.sin(np.radians(params.max_roll_deg)) / tan_tilt
+    length = np.sqrt(12.0 * np.maximum(spread_along, 1e-12))
+    bend = distance / tan_tilt * params.max_pitch_rate_rad_s * time_span_s / length
+    bound = np.arctan(roll_term + bend)
+    sigma = np.sqrt(spread_across / (np.maximum(sizes, 1) * np.maximum(spread_along, 1e-12)))
+    return np.arcsin(np.minimum(sin_lean, 1.0)) <= bound + LEAN_SIGMAS * sigma
+
+
+def seen_beyond(
+    segments: Segments,
+    scored: np.ndarray,
+    tilt: np.ndarray,
+    time_increment: float,
+    params: ImprovedParams,
+) -> np.ndarray:
+    """Per scored segment: returns on its side lie beyond it, which a floor (or ceiling)
+    line would have hidden.
+
+    A plane tilted into the floor meets it along a whole line across the direction of
+    travel: every beam on that side ends at that line or nearer. So at least
+    ``HORIZON_POINTS`` returns farther out along x than the segment (by ``HORIZON_M`` plus
+    2 % of the range, plus the lean a roll of ``max_roll_deg`` gives the line at the
+    return's y, plus the bend of a rotating scan whose pitch changes at up to
+    ``max_pitch_rate_rad_s`` between the line's beams and the return's) prove the segment
+    is not where the plane meets the floor: a wall, or furniture, seen beside open space.
+    """
+    seen = np.zeros(len(segments), dtype=bool)
+    lines = indices(scored)
+    if lines.size == 0:
+        return seen
+    x, y = segments.points[:, 0], segments.points[:, 1]
+    ranges = np.hypot(x, y)
+    centroids = segments.centroids[lines]
+    side = np.sign(centroids[:, 0])  # (c,)
+    depth = np.abs(centroids[:, 0])  # the line's x, m
+    cot = 1.0 / np.tan(np.maximum(tilt[lines], 1e-3))
+    lean = np.sin(np.radians(params.max_roll_deg)) * cot
+    # time between each return's beam and the line's middle beam, s
+    middle = (
+        np.bincount(segments.labels, segments.beams, len(segments))[lines] / segments.sizes[lines]
+    )
+    apart = np.abs(segments.beams[None, :] - middle[:, None]) * abs(time_increment)
+    bend = (depth * cot * params.max_pitch_rate_rad_s)[:, None] * apart
+    beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
+    beyond -= HORIZON_M + 0.02 * ranges + bend
+    beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
+    seen[lines] = np.count_nonzero(beyond > 0.0, axis=1) >= HORIZON_POINTS
+    return seen

@@ -1,0 +1,191 @@
+"""Scoring: how likely each segment is a floor or ceiling line of a tilted scan plane.
+
+Per segment (:mod:`pvfilter.improved.segmentation`):
+
+1. **Evidence**: the share of its points that are new, in space the level view saw as
+   free (:mod:`pvfilter.improved.evidence`).
+2. **Geometry** (:mod:`pvfilter.improved.geometry`): a floor line is straight, across the
+   direction of travel, no nearer than the scanner's height over ``sin(max_tilt)``, and
+   its normal leans from the x axis no more than the roll, a rotating scan's bend and the
+   fit's own error explain. A segment that fails gets no score.
+3. **The two sides**: a tilted plane goes down on one side of the sensor and up on the
+   other. The down side is the side of the strongest line (the gated segment with the
+   most new points, at least ``down_side_min_new``), or the IMU's. On the up side there is
+   only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the tilt the
+   strongest line implies: a nearer line there is furniture met at another height, and its
+   score is multiplied by ``up_side_weight``.
+4. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
+   error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
+   independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
+   explain (a floor line nearer than its tilt allows) is weighted like a line on the up
+   side.
+
+The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.improved.geometry import ceiling_min_distance, implied_tilt, lean_ok, seen_beyond
+from pvfilter.improved.imu import Attitude
+from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.segmentation import Segments
+
+IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
+# (no new point) it stays below the default p_th
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class SegmentScores:
+    """What scoring found per segment.
+
+    Attributes:
+        scores: per segment, ``P(C_pv)`` in [0, 1].
+        gates: per segment, it passes the geometry gates.
+        share_new: per segment, the share of its points that are new.
+        new_counts: per segment, its new points.
+        tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
+        down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
+        down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
+    """
+
+    scores: np.ndarray
+    gates: np.ndarray
+    share_new: np.ndarray
+    new_counts: np.ndarray
+    tilt_rad: np.ndarray
+    down_side: int
+    down_tilt_rad: float = math.nan
+
+
+def geometry_gates(
+    segments: Segments, tilt: np.ndarray, time_increment: float, params: ImprovedParams
+) -> np.ndarray:
+    """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane."""
+    k = len(segments)
+    starts = np.searchsorted(segments.labels, np.arange(k))
+    ends = np.concatenate((starts[1:], [len(segments.labels)])) - 1
+    span_s = (segments.beams[ends] - segments.beams[starts]) * abs(time_increment)
+    distances = segments.distances
+    return (
+        segments.across
+        & (segments.sizes >= params.min_points)
+        & (distances >= params.min_line_distance_m)
+        & lean_ok(
+            np.abs(segments.normals[:, 1]),
+            tilt,
+            distances,
+            segments.spread_along,
+            segments.spread_across,
+            segments.sizes,
+            span_s,
+            params,
+        )
+    )
+
+
+def score_segments(
+    segments: Segments,
+    new_valid: np.ndarray,
+    time_increment: float,
+    attitude: Attitude | None,
+    params: ImprovedParams,
+    static: tuple[np.ndarray, np.ndarray] | None = None,
+) -> SegmentScores:
+    """Score every segment (see the module docstring).
+
+    Args:
+        segments: the scan's segments.
+        new_valid: per valid point, it is new.
+        time_increment: the scan's time between beams, s.
+        attitude: the IMU's attitude, or None.
+        params: the filter's parameters.
+        static: per valid point, an earlier scan saw it at the same place in the world,
+            and whether that test tells there (None: no earlier scan).
+    """
+    k, labels = len(segments), segments.labels
+    sizes = np.maximum(segments.sizes, 1)
+    any_new = bool(new_valid.any())
+    new_counts = np.bincount(labels, new_valid, k) if any_new else np.zeros(k)
+    share = new_counts / sizes
+    imu_tilted = attitude is not None and attitude.tilted
+    # lines are fitted only when a segment across the direction of travel has new points,
+    # or the IMU says the plane is tilted (most scans: neither)
+    candidates = segments.across & (segments.sizes >= params.min_points)
+    if not ((candidates & (share > 0.0)).any() or (imu_tilted and candidates.any())):
+        zeros = np.zeros(k)
+        return SegmentScores(zeros, np.zeros(k, bool), share, new_counts, np.full(k, np.nan), 0)
+    tilt = implied_tilt(segments.distances, params)
+    gates = geometry_gates(segments, tilt, time_increment, params)
+    score = np.where(gates, share, 0.0)
+    if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
+        score *= np.minimum(np.sqrt(12.0 * segments.spread_along) / params.line_length_m, 1.0)
+    if static is not None:
+        score *= 1.0 - _world_static_share(segments, *static)
+    # nothing lies beyond a floor line: returns there show a wall beside open space
+    score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
+    side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
+    down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
+    if down != 0 and params.up_side_weight < 1.0:
+        too_near = segments.distances < ceiling_min_distance(down_tilt, params)
+        score[(side == -down) & too_near] *= params.up_side_weight
+    if attitude is not None:
+        agree, contradict = _imu_agreement(segments, side, tilt, attitude, params)
+        score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - IMU_SUPPORT), score)
+        score[contradict] *= params.up_side_weight
+    return SegmentScores(score, gates, share, new_counts, tilt, down, down_tilt)
+
+
+def _world_static_share(segments: Segments, static: np.ndarray, telling: np.ndarray) -> np.ndarray:
+    """Per segment: the share of its points that stayed put in the world, where at least
+    half of them tell (else 0: a line that moves with the sensor and a wall look alike
+    while the sensor stands)."""
+    k, labels = len(segments), segments.labels
+    told = np.bincount(labels, telling, k)
+    share = np.bincount(labels, static, k) / np.maximum(told, 1.0)
+    return np.where(told >= 0.5 * segments.sizes, share, 0.0)
+
+
+def _down_side(
+    gates: np.ndarray,
+    new_counts: np.ndarray,
+    side: np.ndarray,
+    tilt: np.ndarray,
+    attitude: Attitude | None,
+    params: ImprovedParams,
+) -> tuple[int, float]:
+    """Where the floor is (+1 ahead, -1 behind, 0 unknown) and the tilt that puts it there.
+
+    The IMU's pitch when it says the plane is tilted; else the strongest gated line.
+    """
+    if attitude is not None and attitude.tilted:
+        return attitude.down_side, attitude.tilt_rad
+    strength = np.where(gates, new_counts, 0.0)
+    strongest = int(np.argmax(strength)) if strength.size else 0
+    if strength.size == 0 or strength[strongest] < params.down_side_min_new:
+        return 0, math.nan
+    return int(side[strongest]), float(tilt[strongest])
+
+
+def _imu_agreement(
+    segments: Segments,
+    side: np.ndarray,
+    tilt: np.ndarray,
+    attitude: Attitude,
+    params: ImprovedParams,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
+    (a floor there would need more tilt than the IMU's band allows)."""
+    error, magnitude = attitude.error_rad, attitude.tilt_rad
+    on_floor = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
+    ceiling = np.zeros(len(segments), dtype=bool)
+    if attitude.tilted:
+        far = segments.distances >= ceiling_min_distance(magnitude + error, params)
+        ceiling = (side == -attitude.down_side) & far
+    agree = on_floor | ceiling
+    contradict = tilt > magnitude + error
+    return agree, contradict & ~agree

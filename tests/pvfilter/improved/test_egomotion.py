@@ -1,0 +1,101 @@
+"""Ego-motion over a sequence: unstretching tilted scans, the odometry prior, trust."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pvfilter.improved import BeamLayout, ImprovedParams, Motion, segment_scan
+from pvfilter.improved.egomotion import EgoMotion
+from pvfilter.synthetic import room_segments
+
+from .conftest import tilted_scan
+
+PARAMS = ImprovedParams()
+DT = 0.1  # s
+
+
+def prepared(scan):
+    layout = BeamLayout.of(scan)
+    valid = scan.valid_mask()
+    points = layout.points(np.where(valid, scan.ranges, np.nan))
+    beams = np.flatnonzero(valid)
+    return layout, points, segment_scan(points[beams], beams, layout.increment, PARAMS)
+
+
+def matched(reference, scan, pose_before=None, pose_after=None, tilt=None):
+    """EgoMotion given ``reference`` (level), then matching ``scan``."""
+    ego = EgoMotion(PARAMS)
+    layout, points, _ = prepared(reference)
+    ego.commit(points, np.zeros(len(reference), bool), ego.match(layout, points, None, DT,
+               ego.prior(DT, None), False, None), 0.0, DT, pose_before)  # fmt: skip
+    layout, points, segments = prepared(scan)
+    prior = ego.prior(DT, pose_after)
+    return ego.match(layout, points, segments, DT, prior, pose_after is not None, tilt), prior
+
+
+def test_a_tilted_scan_unstretched_by_its_tilt_matches_its_level_view():
+    # nose up 15 deg at the same place: the wall ahead looks 1 / cos(15 deg) farther (4.14
+    # instead of 4 m), the wall behind is hidden by the floor line
+    walls = room_segments(4.0, 3.0, 2.0, 2.0)
+    level, _ = tilted_scan(walls=walls)
+    tilted, hit = tilted_scan(walls=walls, pitch_rad=math.radians(-15.0))
+    assert (hit == 2).sum() > 50
+    unstretched, _ = matched(level, tilted, tilt=math.radians(15.0))
+    assert unstretched.trusted and unstretched.step.translation_m < 0.01
+    as_is, _ = matched(level, tilted, tilt=0.0)
+    assert as_is.step.tx_m > 0.05  # a drive backwards that did not happen
+
+
+def test_the_odometry_prior_keeps_the_motion_where_the_walls_do_not_show_it():
+    # a corridor whose ends are out of range: the side walls fix the turn and y, not x
+    corridor = room_segments(20.0, 20.0, 1.0, 1.0)
+    before, _ = tilted_scan(pose=(0.0, 0.0, 0.0), walls=corridor)
+    after, _ = tilted_scan(pose=(0.12, 0.0, 0.0), walls=corridor)
+    assert np.isinf(before.ranges[np.abs(before.angles()) < 0.02]).all()
+    with_odometry, _ = matched(before, after, np.zeros(3), np.array([0.12, 0.0, 0.0]))
+    assert with_odometry.trusted
+    assert with_odometry.step.tx_m == pytest.approx(-0.12, abs=0.005)
+    scans_only, _ = matched(before, after)
+    assert scans_only.step.tx_m == pytest.approx(0.0, abs=0.005)  # constant velocity: 0
+
+
+def test_slipping_odometry_is_corrected_by_the_walls():
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    before, _ = tilted_scan(walls=room)
+    after, _ = tilted_scan(pose=(0.1, 0.0, 0.0), walls=room)
+    # the wheels locked on a hard stop: they read 7 cm of the 10 cm
+    found, prior = matched(before, after, np.zeros(3), np.array([0.07, 0.0, 0.0]))
+    assert found.trusted and found.step.tx_m == pytest.approx(-0.1, abs=0.005)
+    assert prior[1][1] > 0.01  # the spread grows with the step (slip)
+
+
+def test_a_match_far_from_the_odometry_or_without_pairs_is_not_trusted():
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    before, _ = tilted_scan(walls=room)
+    after, _ = tilted_scan(pose=(0.1, 0.0, 0.0), walls=room)
+    far, prior = matched(before, after, np.zeros(3), np.array([0.6, 0.0, 0.0]))
+    assert not far.trusted and far.step == prior[0]  # the prior, to coast on
+    empty = after.with_ranges(np.full(len(after), np.nan))
+    assert not matched(before, empty)[0].trusted
+
+
+def test_coasting_keeps_the_reference_and_carries_the_prior():
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego = EgoMotion(PARAMS)
+    scan, _ = tilted_scan(walls=room)
+    layout, points, segments = prepared(scan)
+    ego.commit(points, np.zeros(len(scan), bool), ego.match(layout, points, segments, DT,
+               ego.prior(DT, None), False, None), 0.0, DT, None)  # fmt: skip
+    reference = ego.reference
+    failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
+                       (Motion(0.0, -0.05, 0.0), (0.01, 0.03)), False, None)  # fmt: skip
+    coasted = ego.coast(failed, 0.0)
+    assert coasted.trusted and coasted.step == Motion(0.0, -0.05, 0.0)
+    assert ego.reference is reference and ego.since_reference.tx_m == -0.05
+    # the next scan, 5 cm on again, is matched against the old reference: 10 cm
+    after, _ = tilted_scan(pose=(0.1, 0.0, 0.0), walls=room)
+    layout, points, segments = prepared(after)
+    found = ego.match(layout, points, segments, DT, (Motion(0.0, -0.05, 0.0), (0.01, 0.03)),
+                      False, None)  # fmt: skip
+    assert found.trusted and found.step.tx_m == pytest.approx(-0.05, abs=0.005)

@@ -1,0 +1,83 @@
+"""Evidence: returns in front of the level view, and returns that stayed put in the world."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion
+from pvfilter.improved.evidence import RecentScans, free_space_gaps, new_points, world_static
+
+from .conftest import room_scan
+
+PARAMS = ImprovedParams()
+
+
+def ranges_of(scan):
+    return np.where(scan.valid_mask(), scan.ranges, np.nan)
+
+
+def gaps_against(view_scan, scan, range_max=12.0):
+    memory = LevelMemory()
+    memory.update(ranges_of(view_scan), np.isposinf(view_scan.ranges), None, 0.0, PARAMS, True)
+    layout = BeamLayout.of(view_scan)
+    view = memory.view(layout, range_max, Motion(), Motion(), 0.0, PARAMS)
+    return free_space_gaps(ranges_of(scan), view.ranges, layout, range_max)
+
+
+def test_a_floor_line_in_front_of_the_walls_is_new_and_the_walls_are_not():
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    new = new_points(gaps_against(level, pitched), ranges_of(pitched), 0.08, 0.015)
+    assert on_floor.sum() > 50
+    assert new[on_floor].mean() > 0.9 and not new[~on_floor].any()
+
+
+def test_free_space_reaches_range_max_and_no_farther():
+    # nothing within a 4 m range limit, then the wall 3.95 m ahead comes into range: a wall
+    # at the edge of the range is not new (it was beyond the range, not in free space)
+    level, _ = room_scan(noise_m=0.0)
+    out_of_range = level.with_ranges(np.full(len(level), np.inf))
+    near = level.with_ranges(np.where(np.isfinite(level.ranges), 3.95, np.nan))
+    gaps = gaps_against(out_of_range, near, range_max=4.0)
+    new = new_points(gaps, ranges_of(near), 0.08, 0.015)
+    np.testing.assert_allclose(gaps[near.valid_mask()], 0.05)
+    assert not new.any()
+
+
+def test_unknown_view_gives_no_gap():
+    level, _ = room_scan(noise_m=0.0)
+    unknown = level.with_ranges(np.full(len(level), np.nan))
+    assert np.isnan(gaps_against(unknown, level)).all()
+
+
+def test_a_wall_stays_put_in_the_world_and_a_floor_line_moves_with_the_sensor():
+    # the sensor drives 0.3 m forward; the floor line keeps its 1.44 m, the walls come closer
+    pitch = math.radians(10.0)
+    before, _ = room_scan((0.0, 0.0, 0.0), pitch, noise_m=0.0)
+    after, on_floor = room_scan((0.3, 0.0, 0.0), pitch, noise_m=0.0)
+    layout = BeamLayout.of(before)
+    static, telling = world_static(
+        ranges_of(after), ranges_of(before), layout, Motion(tx_m=-0.3), 0.03
+    )
+    # the test is first order along the beam: exact for surfaces across it, as the wall
+    # behind is (a side wall slides along the beams)
+    behind = np.abs(after.angles()) > math.radians(150.0)
+    walls, floor = telling & ~on_floor & behind & after.valid_mask(), telling & on_floor
+    assert walls.sum() > 50 and floor.sum() > 50  # the sensor moved along their beams
+    assert static[walls].mean() > 0.95 and not static[floor].any()
+    # standing still, nothing tells a wall from a line
+    _, telling = world_static(ranges_of(before), ranges_of(before), layout, Motion(), 0.03)
+    assert not telling.any()
+
+
+def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
+    recent = RecentScans(0.25)
+    for k in range(6):
+        moved = recent.moved(Motion(tx_m=-0.1))
+        recent.add(0.1 * k, np.full(3, float(k)))
+    ranges, since = moved
+    assert ranges[0] == 2.0 and since.tx_m == pytest.approx(-0.3)  # 0.3 s before the last
+    assert [round(t, 6) for t, _, _ in recent.scans] == [0.3, 0.4, 0.5]
+    recent.clear()
+    assert recent.moved(Motion()) is None

@@ -1,0 +1,146 @@
+"""The tilted scan plane against closed form: where it meets floor, ceiling and walls."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from pvfilter.improved import ImprovedParams, segment_scan
+from pvfilter.improved.geometry import (
+    ceiling_min_distance,
+    floor_distance,
+    implied_tilt,
+    lean_ok,
+    seen_beyond,
+)
+from pvfilter.improved.motion import unstretch
+from pvfilter.synthetic import room_segments
+
+from .conftest import HEIGHT_M, tilted_scan
+
+LEVEL_SENSOR = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)  # h fixed
+
+
+def segments_of(scan, params=LEVEL_SENSOR):
+    beams = np.flatnonzero(scan.valid_mask())
+    return segment_scan(scan.points()[beams], beams, scan.angle_increment, params), beams
+
+
+@pytest.mark.parametrize("tilt_deg", [5.0, 12.0, 30.0])
+def test_nose_down_meets_the_floor_h_over_sin_tilt_ahead(tilt_deg):
+    tilt = math.radians(tilt_deg)
+    scan, hit = tilted_scan(pitch_rad=tilt, walls=room_segments(9.0, 4.0, 6.0, 6.0))
+    floor = scan.points()[hit == 2]
+    assert len(floor) > 50
+    np.testing.assert_allclose(floor[:, 0], HEIGHT_M / math.sin(tilt), atol=1e-9)
+    assert floor_distance(tilt, LEVEL_SENSOR) == pytest.approx(HEIGHT_M / math.sin(tilt))
+    segments, _ = segments_of(scan)
+    main = np.argmax(segments.sizes * segments.across)
+    # the line's fit takes in the corner where it meets the side walls: 0.1 deg
+    assert implied_tilt(segments.distances[main : main + 1], LEVEL_SENSOR)[0] == pytest.approx(
+        tilt, abs=math.radians(0.1)
+    )
+
+
+def test_nose_up_meets_the_floor_behind_and_the_ceiling_ahead():
+    tilt, ceiling = math.radians(25.0), 2.2
+    walls = room_segments(8.0, 8.0, 4.0, 4.0)
+    scan, hit = tilted_scan(pitch_rad=-tilt, ceiling_m=ceiling, walls=walls)
+    points = scan.points()
+    np.testing.assert_allclose(points[hit == 2][:, 0], -HEIGHT_M / math.sin(tilt), atol=1e-9)
+    np.testing.assert_allclose(points[hit == 3][:, 0], (ceiling - HEIGHT_M) / math.sin(tilt))
+    # the nearest a ceiling at min_ceiling_m can be at this tilt
+    params = dataclasses.replace(LEVEL_SENSOR, min_ceiling_m=ceiling)
+    assert ceiling_min_distance(tilt, params) == pytest.approx(
+        (ceiling - HEIGHT_M) / math.sin(tilt)
+    )
+
+
+def test_a_robot_tilting_about_its_axle_brings_the_floor_line_nearer():
+    params = ImprovedParams(lidar_height_m=0.3, axle_height_m=0.1)
+    for tilt in np.radians([3.0, 10.0, 25.0, 40.0]):
+        scanner = 0.1 + 0.2 * math.cos(tilt)  # the scanner's height, tilted about the axle
+        assert floor_distance(tilt, params) == pytest.approx(scanner / math.sin(tilt))
+        assert implied_tilt(np.array([floor_distance(tilt, params)]), params)[0] == pytest.approx(
+            tilt
+        )
+    assert params.min_line_distance_m == pytest.approx(floor_distance(math.radians(45.0), params))
+
+
+def test_walls_ahead_look_farther_by_one_over_cos_and_unstretch_undoes_it():
+    tilt = math.radians(20.0)
+    walls = room_segments(3.0, 2.0, 6.0, 6.0)  # the floor line (0.73 m) is nearer: no wall
+    level, _ = tilted_scan(walls=walls, pitch_rad=0.0, beams=720)
+    tilted, hit = tilted_scan(walls=walls, pitch_rad=-math.radians(5.0), beams=720)
+    ahead = (hit == 1) & (np.abs(tilted.angles()) < math.radians(20.0))
+    stretched = tilted.points()[ahead]
+    np.testing.assert_allclose(stretched[:, 0], 3.0 / math.cos(math.radians(5.0)), atol=1e-9)
+    np.testing.assert_allclose(unstretch(stretched, math.radians(5.0))[:, 0], 3.0, atol=1e-9)
+    assert level.points()[ahead][:, 0] == pytest.approx(3.0)
+    assert unstretch(stretched, 0.0) is stretched  # nothing to undo
+    del tilt
+
+
+def test_a_rolled_floor_line_leans_by_the_roll_over_the_tilt_and_passes():
+    pitch, roll = math.radians(8.0), math.radians(2.0)
+    walls = room_segments(9.0, 4.0, 6.0, 6.0)
+    scan, hit = tilted_scan(pitch_rad=pitch, roll_rad=roll, walls=walls)
+    segments, beams = segments_of(scan)
+    main = np.bincount(segments.labels[hit[beams] == 2]).argmax()
+    lean = math.asin(abs(segments.normals[main, 1]))
+    # x sin p - y cos p sin r = h: the normal leans by atan(sin r / tan p) from the x axis
+    assert lean == pytest.approx(math.atan(math.sin(roll) / math.tan(pitch)), abs=3e-3)
+    args = (
+        np.abs(segments.normals[:, 1]),
+        implied_tilt(segments.distances, LEVEL_SENSOR),
+        segments.distances,
+        segments.spread_along,
+        segments.spread_across,
+        segments.sizes,
+        np.zeros(len(segments)),
+    )
+    assert lean_ok(*args, LEVEL_SENSOR)[main]
+    no_roll = dataclasses.replace(LEVEL_SENSOR, max_roll_deg=0.5)
+    assert not lean_ok(*args, no_roll)[main]
+
+
+def test_a_rotating_scan_bends_a_line_within_the_pitch_rate_allowance():
+    # the far end of a line measured 20 ms later, the pitch 2 deg higher by then
+    y = np.linspace(-1.0, 1.0, 80)
+    tilt = math.radians(12.0) + math.radians(2.0) * (y + 1.0) / 2.0
+    points = np.column_stack((HEIGHT_M / np.sin(tilt), y))
+    segments = segment_scan(points, np.arange(80), math.radians(0.5), LEVEL_SENSOR)
+    args = (
+        np.abs(segments.normals[:, 1]),
+        implied_tilt(segments.distances, LEVEL_SENSOR),
+        segments.distances,
+        segments.spread_along,
+        segments.spread_across,
+        segments.sizes,
+    )
+    still = dataclasses.replace(LEVEL_SENSOR, max_roll_deg=0.1, max_pitch_rate_rad_s=0.0)
+    assert not lean_ok(*args, np.array([0.02]), still)[0]
+    assert lean_ok(*args, np.array([0.02]), LEVEL_SENSOR)[0]  # 3 rad/s covers 1.7 rad/s
+
+
+def test_nothing_lies_beyond_a_floor_line_but_open_space_beside_a_wall_shows():
+    tilt = math.radians(10.0)
+    walls = room_segments(6.0, 4.0, 3.0, 3.0)
+    scan, hit = tilted_scan(pitch_rad=tilt, walls=walls)
+    segments, beams = segments_of(scan)
+    floor = np.bincount(segments.labels[hit[beams] == 2]).argmax()
+    scored = np.zeros(len(segments), dtype=bool)
+    scored[floor] = True
+    tilts = implied_tilt(segments.distances, LEVEL_SENSOR)
+    assert not seen_beyond(segments, scored, tilts, 0.0, LEVEL_SENSOR)[floor]
+    # a short wall 1.4 m ahead in a level scan of a big room: the room goes on beside it
+    box = np.array([[[1.44, -0.3], [1.44, 0.3]]])
+    level, hit = tilted_scan(walls=np.concatenate((walls, box)))
+    segments, beams = segments_of(level)
+    ahead = level.points()[beams]
+    front = segments.labels[np.flatnonzero((ahead[:, 0] > 0.0) & (np.abs(ahead[:, 1]) < 0.2))[0]]
+    scored = np.zeros(len(segments), dtype=bool)
+    scored[front] = True
+    tilts = implied_tilt(segments.distances, LEVEL_SENSOR)
+    assert seen_beyond(segments, scored, tilts, 0.0, LEVEL_SENSOR)[front]

@@ -1,0 +1,115 @@
+"""Scoring: the geometry gates, the two sides of a tilted plane, the IMU, the length, the
+world-static veto."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from pvfilter.improved import ImprovedParams, segment_scan
+from pvfilter.improved.imu import Attitude
+from pvfilter.improved.scoring import IMU_SUPPORT, score_segments
+from pvfilter.synthetic import room_segments
+
+from .conftest import HEIGHT_M, tilted_scan
+
+PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+INCREMENT = math.radians(0.5)
+
+
+def line(x0, y0, x1, y1, count=40):
+    return np.column_stack((np.linspace(x0, x1, count), np.linspace(y0, y1, count)))
+
+
+def scored(*parts, new=None, params=PARAMS, attitude=None, static=None):
+    points = np.concatenate(parts)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, params)
+    new = np.ones(len(points), bool) if new is None else new
+    return segments, score_segments(segments, new, 0.0, attitude, params, static)
+
+
+def at(segments, point):
+    return segments.labels[point]
+
+
+def test_a_new_floor_line_across_the_direction_of_travel_scores_its_share_of_new_points():
+    _, result = scored(line(1.5, -1.0, 1.5, 1.0))
+    assert result.gates.tolist() == [True] and result.scores[0] == pytest.approx(1.0)
+    half = np.arange(40) < 20
+    _, result = scored(line(1.5, -1.0, 1.5, 1.0), new=half)
+    assert result.scores[0] == pytest.approx(0.5)
+
+
+def test_lines_along_the_direction_of_travel_or_too_near_fail_the_gates():
+    _, along = scored(line(0.5, 1.2, 3.0, 1.2))
+    assert not along.gates.any() and not along.scores.any()
+    near = PARAMS.min_line_distance_m * 0.8
+    _, close = scored(line(near, -0.3, near, 0.3))
+    assert not close.gates.any()
+
+
+def test_a_short_line_scores_in_proportion_to_its_length():
+    # 0.4 m of a line 0.8 m long (line_length_m) scores half
+    _, result = scored(line(2.0, -0.2, 2.0, 0.2, 40))
+    length = math.sqrt(12.0 * np.var(np.linspace(-0.2, 0.2, 40)))
+    assert result.scores[0] == pytest.approx(length / PARAMS.line_length_m, rel=1e-6)
+
+
+def test_a_line_on_the_up_side_nearer_than_a_ceiling_can_be_is_weighted_down():
+    floor = line(1.44, -1.5, 1.44, 1.5, 60)  # the strongest line: 10 deg, floor ahead
+    furniture = line(-1.0, -0.5, -1.0, 0.5, 30)  # behind, 1 m: no ceiling that low
+    ceiling = line(-10.0, -1.5, -10.0, 1.5, 30)  # behind, beyond (1.9 - 0.25) / sin 10 deg
+    segments, result = scored(floor, furniture)
+    assert result.down_side == 1
+    assert result.down_tilt_rad == pytest.approx(math.radians(10.0), abs=1e-3)
+    assert result.scores[at(segments, 0)] == pytest.approx(1.0)
+    assert result.scores[at(segments, 60)] == pytest.approx(PARAMS.up_side_weight)
+    segments, result = scored(floor, ceiling)
+    assert result.scores[at(segments, 60)] == pytest.approx(1.0)  # a ceiling: kept
+    no_side = dataclasses.replace(PARAMS, up_side_weight=1.0)
+    segments, flat = scored(floor, furniture, params=no_side)
+    assert flat.scores[at(segments, 60)] == pytest.approx(1.0)
+
+
+def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_cannot():
+    tilt = math.radians(10.0)
+    floor = line(HEIGHT_M / math.sin(tilt), -1.5, HEIGHT_M / math.sin(tilt), 1.5, 60)
+    none_new = np.zeros(60, bool)
+    agreeing = Attitude(tilt, 0.0, math.radians(2.0))
+    _, result = scored(floor, new=none_new, attitude=agreeing)
+    assert result.scores[0] == pytest.approx(IMU_SUPPORT)  # alone: below the default p_th
+    _, result = scored(floor, new=np.arange(60) < 30, attitude=agreeing)
+    assert result.scores[0] == pytest.approx(1.0 - 0.5 * (1.0 - IMU_SUPPORT))
+    level = Attitude(0.0, 0.0, math.radians(2.0))  # the robot is level: no floor at 1.44 m
+    _, result = scored(floor, attitude=level)
+    assert result.scores[0] == pytest.approx(PARAMS.up_side_weight)
+
+
+def test_a_line_that_stayed_put_in_the_world_while_the_sensor_moved_is_a_wall():
+    wall = line(1.5, -1.0, 1.5, 1.0)
+    stayed, telling = np.ones(40, bool), np.ones(40, bool)
+    _, result = scored(wall, static=(stayed, telling))
+    assert result.scores[0] == 0.0
+    _, standing = scored(wall, static=(stayed, np.zeros(40, bool)))  # nothing told
+    assert standing.scores[0] == pytest.approx(1.0)
+
+
+def test_a_wall_seen_beside_open_space_is_not_the_floor():
+    # a tilted plane meets the floor along the whole width; a wall 1.44 m ahead with the
+    # room open beside it (returns 6 m out) is weighted like the up side
+    floor_scan, _ = tilted_scan(pitch_rad=math.radians(10.0), walls=room_segments(6, 4, 3, 3))
+    box = np.array([[[1.44, -0.3], [1.44, 0.3]]])
+    walls = np.concatenate((room_segments(6, 4, 3, 3), box))
+    box_scan, _ = tilted_scan(walls=walls)
+    for scan, expected in ((floor_scan, 1.0), (box_scan, PARAMS.up_side_weight)):
+        valid = scan.valid_mask()
+        points, beams = scan.points()[valid], np.flatnonzero(valid)
+        segments = segment_scan(points, beams, INCREMENT, PARAMS)
+        ahead = np.flatnonzero((points[:, 0] > 1.0) & (np.abs(points[:, 1]) < 0.1))[0]
+        new = np.abs(points[:, 0] - 1.44) < 0.05  # only the line is new
+        result = score_segments(segments, new, 0.0, None, PARAMS)
+        label = segments.labels[ahead]
+        length = math.sqrt(12.0 * segments.spread_along[label]) / PARAMS.line_length_m
+        share = result.share_new[label] * min(length, 1.0)
+        assert result.scores[label] == pytest.approx(expected * share, rel=1e-6)
