@@ -64,7 +64,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command; returns the exit status."""
+    """Run the command; returns the exit status. ``pvfilter eval-logs ...`` evaluates
+    filters on real logs (:mod:`pvfilter.eval_logs`)."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["eval-logs"]:
+        from pvfilter.eval_logs import main as eval_logs  # imports the command's own module
+
+        return eval_logs(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.list:
