@@ -88,14 +88,22 @@ def spread_claims(
 
 
 def best_claims(
-    segments: Segments, score: np.ndarray, params: ImprovedParams
+    segments: Segments, score: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per valid point: the highest-scoring line that takes it in, and that score.
 
     A point belongs to its own segment, and may be claimed by the lines with a score
-    (extension at their ends, and with ``spread`` anywhere on them). At a threshold
-    ``p_th`` it is removed exactly when the best claim's score exceeds ``p_th``; the best
-    claimer is then detected, and the point joins its cluster.
+    (extension at their ends, and with ``spread`` anywhere on them, if the line is strong:
+    at least ``down_side_min_new`` new points; a fragment that spread over the scan would
+    take whole walls with it). At a threshold ``p_th`` it is removed exactly when the best
+    claim's score exceeds ``p_th``; the best claimer is then detected, and the point joins
+    its cluster.
+
+    Args:
+        segments: the segments.
+        score: per segment, its score.
+        new_counts: per segment, its new points.
+        params: ``spread``, ``down_side_min_new`` and the claims' tolerances.
 
     Returns:
         The owning segment per point, and its score.
@@ -104,7 +112,8 @@ def best_claims(
     lines = indices(score > 0.0)
     pairs = [extension_claims(segments, lines, params)]
     if params.spread:
-        pairs.append(spread_claims(segments, lines, params))
+        strong = lines[new_counts[lines] >= params.down_side_min_new]
+        pairs.append(spread_claims(segments, strong, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
     order = np.argsort(score[claimer], kind="stable")  # the best claim is written last

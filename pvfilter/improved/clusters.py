@@ -1,14 +1,17 @@
-"""Building the clusters of a scan from its scored segments and their claims.
+"""The line detection of one scan: per-beam decisions now, clusters when asked for.
 
-The clusters are the detected segments (score above ``p_th``) with every point they
-claimed, and the other segments of at least ``min_points`` points (with the points no
-better line claimed). Each beam keeps its claim score: it is removed exactly when that
-exceeds ``p_th``, whatever ``p_th``.
+A beam is removed exactly when its claim score (the best score of the lines that take it
+in) exceeds ``p_th``, whatever ``p_th``: that, and what the filter carries to the next
+scan, is all a scan needs. The clusters (the detected segments with every point they
+claimed, and the other segments of at least ``min_points`` points) and their per-cluster
+fields are for viewers and diagnoses, and are built on first access: most scans are never
+looked at.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
@@ -26,45 +29,112 @@ CANDIDATE_SHARE = 0.25  # 1: segments that pass the gates and score above this a
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class LineDetection:
-    """What the improved filter decided for one scan, per cluster and per beam.
+    """What the improved filter decided for one scan, per beam and per cluster.
 
     Attributes:
-        clusters: the clusters.
-        passes_gates: per cluster, its segment passes the geometry gates of a floor line.
-        share_new: per cluster, the share of its points that are new.
-        scores: per cluster, its segment's score (see :mod:`pvfilter.improved.scoring`).
-        detected: per cluster, ``score > p_th``.
-        new_sequence: this scan starts a sequence (no level view yet).
+        scan: the scan.
+        points: its points per beam, sensor frame, m, ``(n, 2)`` (NaN where invalid).
+        segments: its segments.
+        segment_scores: what scoring found per segment.
+        owner: per valid point, the segment whose line claims it best.
+        best: per valid point, that line's score.
+        p_th: the threshold the clusters are built for.
+        min_points: segments smaller than this are no cluster unless detected.
+        new_sequence: this scan starts a sequence, or its motion is the prior's: nothing
+            in it was compared with a level view.
         new_points: bool per beam: in space the level view saw as free.
         candidates: bool per beam: in a candidate line (see ``CANDIDATE_SHARE``).
         tilted: the scan has a candidate line with at least ``down_side_min_new`` new
             points: its plane was tilted (the level view does not learn from it).
-        line_distances: per cluster, distance of its fitted line from the sensor, m (NaN
-            where not fitted).
-        implied_tilt_rad: per cluster, the scan plane's tilt that puts the floor there.
-        down_side: +1 floor ahead, -1 behind, 0 unknown.
-        plane_tilt_rad: the tilt of the scan plane that puts the floor on the strongest line
-            (or the IMU's), rad; NaN when the scan has no such line.
         motion: the ego-motion from the previous scan.
         claim_scores: per beam, the best score of the lines that take it in: the beam is
             removed exactly when this exceeds ``p_th``.
     """
 
-    clusters: ClusterSet
-    passes_gates: np.ndarray
-    share_new: np.ndarray
-    scores: np.ndarray
-    detected: np.ndarray
+    scan: Scan
+    points: np.ndarray
+    segments: Segments
+    segment_scores: SegmentScores
+    owner: np.ndarray
+    best: np.ndarray
+    p_th: float
+    min_points: int
     new_sequence: bool
     new_points: np.ndarray
     candidates: np.ndarray
     tilted: bool
-    line_distances: np.ndarray
-    implied_tilt_rad: np.ndarray
-    down_side: int
-    plane_tilt_rad: float
     motion: Motion
     claim_scores: np.ndarray
+
+    @property
+    def down_side(self) -> int:
+        """+1 floor ahead, -1 behind, 0 unknown."""
+        return self.segment_scores.down_side
+
+    @property
+    def plane_tilt_rad(self) -> float:
+        """The tilt that puts the floor on the strongest line (or the IMU's), rad; NaN when
+        the scan has no such line."""
+        return self.segment_scores.down_tilt_rad
+
+    @functools.cached_property
+    def _kept(self) -> tuple[np.ndarray, np.ndarray, ClusterSet]:
+        """The segments kept as clusters, each point's final segment, and the clusters."""
+        segments, k = self.segments, len(self.segments)
+        detected = self.segment_scores.scores > self.p_th
+        extended = np.where(self.best > self.p_th, self.owner, segments.labels)
+        sizes = np.bincount(extended, minlength=k)
+        kept = (sizes > 0) & (detected | (sizes >= self.min_points))
+        cluster_of = kept.cumsum() - 1
+        cluster_of[~kept] = -1
+        ids = cluster_of.take(extended) if k else np.zeros(0, dtype=np.intp)
+        beam_labels = np.full(len(self.scan), -1, dtype=np.intp)
+        beam_labels[segments.beams] = ids
+        clusters = _cluster_set(self.scan, self.points, beam_labels, segments, ids, sizes[kept])
+        return kept, extended, clusters
+
+    @property
+    def clusters(self) -> ClusterSet:
+        """The clusters: detected segments with what they claimed, and the other segments of
+        at least ``min_points`` points."""
+        return self._kept[2]
+
+    @property
+    def passes_gates(self) -> np.ndarray:
+        """Per cluster, its segment passes the geometry gates of a floor line."""
+        return self.segment_scores.gates[self._kept[0]]
+
+    @property
+    def scores(self) -> np.ndarray:
+        """Per cluster, its segment's score."""
+        return self.segment_scores.scores[self._kept[0]]
+
+    @property
+    def detected(self) -> np.ndarray:
+        """Per cluster, ``score > p_th``."""
+        return self.scores > self.p_th
+
+    @property
+    def share_new(self) -> np.ndarray:
+        """Per cluster, the share of its points that are new."""
+        kept, extended, _ = self._kept
+        k = len(self.segments)
+        new_valid = self.new_points.take(self.segments.beams)
+        sizes = np.bincount(extended, minlength=k)
+        return (np.bincount(extended, new_valid, k) / np.maximum(sizes, 1))[kept]
+
+    @property
+    def line_distances(self) -> np.ndarray:
+        """Per cluster, the distance of its segment's fitted line from the sensor, m (NaN
+        where the lines were not fitted: nothing new in the scan)."""
+        if np.isnan(self.segment_scores.tilt_rad).all():
+            return np.full(len(self.clusters), np.nan)
+        return self.segments.distances[self._kept[0]]
+
+    @property
+    def implied_tilt_rad(self) -> np.ndarray:
+        """Per cluster, the scan plane's tilt that puts the floor on its line, rad."""
+        return self.segment_scores.tilt_rad[self._kept[0]]
 
 
 def build_detection(
@@ -79,7 +149,7 @@ def build_detection(
     motion: Motion,
     new_sequence: bool,
 ) -> LineDetection:
-    """The clusters and the per-beam results (see the module docstring).
+    """The per-beam results of a scan (its clusters are built when asked for).
 
     Args:
         scan: the scan.
@@ -89,45 +159,31 @@ def build_detection(
         owner: per valid point, the segment whose line claims it best.
         best: per valid point, that line's score.
         new: bool per beam: new.
-        params: ``p_th`` and ``min_points``.
+        params: ``p_th``, ``min_points`` and ``down_side_min_new``.
         motion: the ego-motion (kept in the result).
-        new_sequence: this scan starts a sequence.
+        new_sequence: nothing in the scan was compared with a level view.
     """
-    k, labels, n = len(segments), segments.labels, len(scan)
-    score = scores.scores
-    detected = score > params.p_th
-    extended = np.where(best > params.p_th, owner, labels)
-    final_sizes = np.bincount(extended, minlength=k)
-    kept = (final_sizes > 0) & (detected | (final_sizes >= params.min_points))
-    cluster_of = kept.cumsum() - 1
-    cluster_of[~kept] = -1
-    ids = cluster_of.take(extended) if k else np.zeros(0, dtype=np.intp)
-    beam_labels = np.full(n, -1, dtype=np.intp)
-    beam_labels[segments.beams] = ids
-    clusters = _cluster_set(scan, points, beam_labels, segments, ids, final_sizes[kept])
+    n, labels = len(scan), segments.labels
     claim_scores = np.zeros(n)
     claim_scores[segments.beams] = best
-    candidate = scores.gates & (score > CANDIDATE_SHARE)
+    candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
     candidates = np.zeros(n, dtype=bool)
-    candidates[segments.beams] = candidate.take(labels)
+    if candidate.any():
+        candidates[segments.beams] = candidate.take(labels)
     tilted = bool((candidate & (scores.new_counts >= params.down_side_min_new)).any())
-    new_valid = new.take(segments.beams)
-    in_cluster = np.bincount(extended, new_valid, k) / np.maximum(final_sizes, 1)
-    fitted = not np.isnan(scores.tilt_rad).all()
     return LineDetection(
-        clusters=clusters,
-        passes_gates=scores.gates[kept],
-        share_new=in_cluster[kept],
-        scores=score[kept],
-        detected=detected[kept],
+        scan=scan,
+        points=points,
+        segments=segments,
+        segment_scores=scores,
+        owner=owner,
+        best=best,
+        p_th=params.p_th,
+        min_points=params.min_points,
         new_sequence=new_sequence,
         new_points=new,
         candidates=candidates,
         tilted=tilted,
-        line_distances=segments.distances[kept] if fitted else np.full(len(clusters), np.nan),
-        implied_tilt_rad=scores.tilt_rad[kept],
-        down_side=scores.down_side,
-        plane_tilt_rad=scores.down_tilt_rad,
         motion=motion,
         claim_scores=claim_scores,
     )

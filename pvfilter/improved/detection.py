@@ -21,6 +21,7 @@ import numpy as np
 
 from pvfilter.improved.claims import best_claims
 from pvfilter.improved.clusters import LineDetection, build_detection
+from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
@@ -40,7 +41,7 @@ def detect_lines(
     params: ImprovedParams,
     motion: Motion,
     new_sequence: bool,
-    static: tuple[np.ndarray, np.ndarray] | None = None,
+    static: WorldStatic | None = None,
 ) -> LineDetection:
     """Score every segment, detect the lines, extend them, and build the clusters.
 
@@ -53,15 +54,12 @@ def detect_lines(
         params: the filter's parameters.
         motion: the ego-motion (kept in the result).
         new_sequence: this scan starts a sequence (nothing is new).
-        static: per beam, the previous scan saw the return at the same place in the
-            world, and how far a static return moved along the beam, m (or None).
+        static: the world-static test against an earlier scan (None: none).
     """
     new_valid = new.take(segments.beams)
-    if static is not None:
-        static = (static[0].take(segments.beams), static[1].take(segments.beams))
     scores = score_segments(segments, new_valid, scan.time_increment, attitude, params, static)
     if scores.scores.any():
-        owner, best = best_claims(segments, scores.scores, params)
+        owner, best = best_claims(segments, scores.scores, scores.new_counts, params)
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))
     return build_detection(

@@ -34,7 +34,6 @@ from pvfilter.improved.motion import (
     unstretch,
 )
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.segmentation import Segments
 
 ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, besides slip
 ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip
@@ -53,11 +52,13 @@ class Match:
         step: the motion from the previous scan to this one.
         trusted: the match can be trusted.
         tilt_rad: the tilt the scan was unstretched by before the match, rad, >= 0.
+        ranges: the scan's ranges, mid-scan and unstretched, m (None: not matched).
     """
 
     step: Motion
     trusted: bool
     tilt_rad: float = 0.0
+    ranges: np.ndarray | None = None
 
 
 class EgoMotion:
@@ -75,6 +76,7 @@ class EgoMotion:
     def reset(self) -> None:
         """Forget the scans so far (a new sequence, or a re-baseline)."""
         self.reference: np.ndarray | None = None  # the last matched scan, unstretched
+        self.reference_ranges: np.ndarray | None = None  # its ranges
         self.since_reference = Motion()  # its motion to the previous scan (coasting)
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
@@ -96,7 +98,7 @@ class EgoMotion:
         self,
         layout: BeamLayout,
         points: np.ndarray,
-        segments: Segments,
+        directions: np.ndarray,
         dt: float,
         prior: tuple[Motion, tuple[float, float]],
         odometry: bool,
@@ -107,7 +109,7 @@ class EgoMotion:
         Args:
             layout: the beams.
             points: the scan's points per beam in its mid-scan frame (NaN rows: none), m.
-            segments: its segments (their local directions).
+            directions: the local line direction per beam, rad (NaN: none).
             dt: time since the previous scan, s.
             prior: the expected step and its spread (from :meth:`prior`).
             odometry: the prior is the wheel odometry's.
@@ -126,11 +128,9 @@ class EgoMotion:
         max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
         level = unstretch(points, guess)
         ranges = np.hypot(level[:, 0], level[:, 1])
-        reference_ranges = np.hypot(self.reference[:, 0], self.reference[:, 1])
+        reference_ranges = self.reference_ranges
         first = min(max(round(expected.theta_rad / layout.increment), -max_shift), max_shift)
         shift = coarse_turn(ranges, reference_ranges, max_shift, layout, first)
-        directions = np.full(layout.count, np.nan)
-        directions[segments.beams] = segments.directions
         found = estimate_motion(
             level,
             directions,
@@ -151,8 +151,8 @@ class EgoMotion:
             trusted &= off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
             trusted &= off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
         if not trusted:  # what the prior expected, for a filter that coasts on it
-            return Match(step_prior, False, guess)
-        return Match(step, True, guess)
+            return Match(step_prior, False, guess, ranges)
+        return Match(step, True, guess, ranges)
 
     def coast(self, match: Match, tilt_rad: float) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
@@ -173,6 +173,7 @@ class EgoMotion:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
         beams (new, candidate lines) never take part in a match."""
         self.reference = np.where(moving[:, None], np.nan, unstretch(points, tilt_rad))
+        self.reference_ranges = np.hypot(self.reference[:, 0], self.reference[:, 1])
         self.since_reference = Motion()
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)

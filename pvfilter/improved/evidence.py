@@ -8,12 +8,16 @@ noise and the ego-motion's error, plus a share of the range for angular error.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from scipy.ndimage import minimum_filter1d
 
 from pvfilter.improved.beams import BeamLayout
 from pvfilter.improved.motion import Motion
 
+MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
+# test does not tell (a grazing beam slides along its surface)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far
 # on each side (absorbs sub-beam misalignment after ego-motion)
 
@@ -73,63 +77,85 @@ def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndar
     return least
 
 
-def world_static(
-    ranges: np.ndarray,
-    previous_ranges: np.ndarray,
-    layout: BeamLayout,
-    since: Motion,
-    tolerance_m: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Per beam: an earlier scan saw this return at the same place in the world.
+@dataclasses.dataclass(frozen=True, eq=False)
+class WorldStatic:
+    """Which returns an earlier scan saw at the same place in the world.
 
     A wall stays where it is while the sensor moves; a floor line moves with the sensor
     (it lies ``h / sin(pitch)`` from it). The earlier range on the beam the turn brings
-    here, moved by the translation along the beam (first order: exact for a surface
-    across the beam, as floor lines and the walls they are mistaken for are), predicts
-    where a static return lies now. The test tells only where the sensor moved along the
-    beam by more than twice the tolerance.
+    here, moved by the translation ``t`` as the surface through the return sees it
+    (``t . n / (u . n)`` along the beam ``u``, ``n`` the surface's normal from the local
+    line direction), predicts where a static return lies now. The test tells only where
+    the sensor moved along the beam by more than twice the tolerance, and not where the
+    beam grazes the surface (``MIN_FACING``). It is evaluated only for the beams asked
+    about (those of candidate lines).
 
-    Args:
+    Attributes:
         ranges: this scan's ranges per beam (mid-scan frame, unstretched), m; NaN where
             invalid.
         previous_ranges: the earlier scan's, m; NaN where invalid.
+        directions: the local line direction per beam, rad (NaN: unknown).
         layout: the beams.
         since: the motion from the earlier scan to this one.
         tolerance_m: how near the prediction a static return lies, m (plus 1 % of range).
-
-    Returns:
-        Per beam, the return is where the earlier scan saw it; and whether the test tells
-        there (the sensor moved far enough along the beam).
     """
-    shift = round(since.theta_rad / layout.increment)
-    moved = since.tx_m * layout.cos + since.ty_m * layout.sin  # a static point's range change
-    predicted = layout.shifted(previous_ranges, shift) + moved
-    tolerance = tolerance_m + 0.01 * ranges
-    telling = np.abs(moved) > 2.0 * tolerance  # NaN: False
-    static = telling & (np.abs(ranges - predicted) <= tolerance)
-    return static, telling
+
+    ranges: np.ndarray
+    previous_ranges: np.ndarray
+    directions: np.ndarray
+    layout: BeamLayout
+    since: Motion
+    tolerance_m: float
+
+    def at(self, beams: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """For ``beams``: the return is where the earlier scan saw it; the test tells."""
+        layout, since = self.layout, self.since
+        shift = round(since.theta_rad / layout.increment)
+        angle = self.directions.take(beams)
+        normal_x, normal_y = -np.sin(angle), np.cos(angle)
+        facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
+        toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
+        with np.errstate(divide="ignore", invalid="ignore"):
+            moved = toward / facing  # how far a static return moved along its beam, m
+        earlier = layout.shifted(self.previous_ranges, shift).take(beams)
+        ranges = self.ranges.take(beams)
+        tolerance = self.tolerance_m + 0.01 * ranges
+        telling = (np.abs(moved) > 2.0 * tolerance) & (np.abs(facing) > MIN_FACING)
+        static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
+        return static, telling
 
 
 class RecentScans:
     """The ranges of the scans of the last ``baseline_s`` seconds (mid-scan frame,
-    unstretched), with the motion from each to the latest: what the world-static test
-    compares with."""
+    unstretched) and where the sensor was for each: what the world-static test compares
+    with.
+
+    The sensor's pose is kept as the motion from a fixed frame (the first scan's) to each
+    scan's, so a scan costs one composition, and the motion between two of them is
+    worked out only when asked for.
+    """
 
     def __init__(self, baseline_s: float) -> None:
         self.baseline_s = baseline_s
-        self.scans: list[tuple[float, np.ndarray, Motion]] = []
+        self.scans: list[tuple[float, np.ndarray, Motion]] = []  # (stamp, ranges, pose)
+        self.pose = Motion()  # the fixed frame -> the latest scan's
 
     def clear(self) -> None:
         """Forget them (a re-baseline)."""
         self.scans.clear()
+        self.pose = Motion()
 
     def moved(self, step: Motion) -> tuple[np.ndarray, Motion] | None:
-        """Move every scan by ``step``; the oldest one's ranges and motion (None: none)."""
-        self.scans = [(t, r, since.then(step)) for t, r, since in self.scans]
-        return (self.scans[0][1], self.scans[0][2]) if self.scans else None
+        """Take the sensor's step to the scan now; the oldest kept scan's ranges and the
+        motion from it to now (None: none kept)."""
+        self.pose = self.pose.then(step)
+        if not self.scans:
+            return None
+        _, ranges, pose = self.scans[0]
+        return ranges, pose.inverse().then(self.pose)
 
     def add(self, stamp: float, ranges: np.ndarray) -> None:
-        """Take a scan in, and drop those older than ``baseline_s`` (keeping one)."""
-        self.scans.append((stamp, ranges, Motion()))
+        """Take the scan now in, and drop those older than ``baseline_s`` (keeping one)."""
+        self.scans.append((stamp, ranges, self.pose))
         while stamp - self.scans[0][0] > self.baseline_s:
             self.scans.pop(0)

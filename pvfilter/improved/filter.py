@@ -24,13 +24,13 @@ from pvfilter.contract import check_attitude, check_pose
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import EgoMotion, Match
-from pvfilter.improved.evidence import RecentScans, free_space_gaps, new_points, world_static
+from pvfilter.improved.evidence import RecentScans, WorldStatic, free_space_gaps, new_points
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import Motion, deskew, unstretch
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
-from pvfilter.improved.segmentation import Segments, segment_scan
+from pvfilter.improved.segmentation import segment_scan
 from pvfilter.scan import Scan
 from pvfilter.stamps import stamp_went_back
 
@@ -96,16 +96,20 @@ class ImprovedPitchVariationFilter:
         beams = indices(valid)
         # segment, in the scan's own frame (a floor line moves with the sensor)
         segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, self.params)
+        directions = np.full(len(scan), np.nan)  # each return's local line direction, rad
+        directions[beams] = segments.directions
         # ego-motion: the scan in its mid-scan frame, matched against the previous one
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
-        match, fresh, coast = self._match(mid_points, segments, dt, prior, pose, attitude, fresh)
+        match, fresh, coast = self._match(mid_points, directions, dt, prior, pose, attitude, fresh)
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
-        level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
+        level_ranges = match.ranges
+        if level_ranges is None:
+            level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
         new, view, static = self._evidence(
-            scan, ranges, level_ranges, match.step, velocity, fresh, coast
+            scan, ranges, level_ranges, directions, match.step, velocity, fresh, coast
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
@@ -122,7 +126,7 @@ class ImprovedPitchVariationFilter:
     def _match(
         self,
         mid_points: np.ndarray,
-        segments: Segments,
+        directions: np.ndarray,
         dt: float,
         prior: tuple[Motion, tuple[float, float]],
         pose: np.ndarray | None,
@@ -137,7 +141,7 @@ class ImprovedPitchVariationFilter:
         if not fresh:
             imu_tilt = None if attitude is None else attitude.tilt_rad
             match = self._ego.match(
-                self._layout, mid_points, segments, dt, prior, pose is not None, imu_tilt
+                self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
             )
             coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
             fresh = not match.trusted and not coast
@@ -180,11 +184,12 @@ class ImprovedPitchVariationFilter:
         scan: Scan,
         ranges: np.ndarray,
         level_ranges: np.ndarray,
+        directions: np.ndarray,
         step: Motion,
         velocity: Motion,
         fresh: bool,
         coast: bool,
-    ) -> tuple[np.ndarray, LevelView | None, tuple[np.ndarray, np.ndarray] | None]:
+    ) -> tuple[np.ndarray, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), the view
         itself, and the world-static test against the scans of the last
         ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
@@ -203,7 +208,9 @@ class ImprovedPitchVariationFilter:
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier
-            static = world_static(level_ranges, earlier_ranges, layout, since, STATIC_TOLERANCE_M)
+            static = WorldStatic(
+                level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
+            )
         return new, view, static
 
     @staticmethod

@@ -202,11 +202,16 @@ def move_scan(
     else:
         np.clip(landing, 0.0, layout.count - 1.0, out=landing)
     tau_after = (landing - 0.5 * (layout.count - 1)) * increment_after
-    angle = motion.theta_rad + velocity_after.theta_rad * tau_after
-    angle -= velocity_before.theta_rad * tau
+    # each point turns by theta plus a few degrees at most (the turn rates times half a
+    # scan): second order in that small part, as in _turn_and_shift
+    small = velocity_after.theta_rad * tau_after
+    small -= velocity_before.theta_rad * tau
     x = points[:, 0] - velocity_before.tx_m * tau
     y = points[:, 1] - velocity_before.ty_m * tau
-    cosine, sine = np.cos(angle), np.sin(angle)
+    c, s = math.cos(motion.theta_rad), math.sin(motion.theta_rad)
+    near_one = 1.0 - 0.5 * small * small
+    cosine = c * near_one - s * small
+    sine = s * near_one + c * small
     moved = np.empty_like(points)
     moved[:, 0] = cosine * x - sine * y + (motion.tx_m + velocity_after.tx_m * tau_after)
     moved[:, 1] = sine * x + cosine * y + (motion.ty_m + velocity_after.ty_m * tau_after)

@@ -77,7 +77,6 @@ def removal(detection: LineDetection) -> ImprovedResult:
     The per-beam scores are the claim scores: a beam's score exceeds ``p_th`` exactly when
     it is removed, whatever ``p_th``.
     """
-    labels = detection.clusters.labels
-    removed = np.concatenate((detection.detected, [False]))[labels]  # label -1: the appended False
-    filtered = without_removed(detection.clusters.scan, removed)
+    removed = detection.claim_scores > detection.p_th
+    filtered = without_removed(detection.scan, removed)
     return ImprovedResult(filtered, removed, detection.claim_scores, detection)

@@ -30,6 +30,8 @@ import math
 
 import numpy as np
 
+from pvfilter.improved.beams import indices
+from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.geometry import ceiling_min_distance, implied_tilt, lean_ok, seen_beyond
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.params import ImprovedParams
@@ -94,7 +96,7 @@ def score_segments(
     time_increment: float,
     attitude: Attitude | None,
     params: ImprovedParams,
-    static: tuple[np.ndarray, np.ndarray] | None = None,
+    static: WorldStatic | None = None,
 ) -> SegmentScores:
     """Score every segment (see the module docstring).
 
@@ -104,8 +106,7 @@ def score_segments(
         time_increment: the scan's time between beams, s.
         attitude: the IMU's attitude, or None.
         params: the filter's parameters.
-        static: per valid point, an earlier scan saw it at the same place in the world,
-            and whether that test tells there (None: no earlier scan).
+        static: the world-static test against an earlier scan (None: no earlier scan).
     """
     k, labels = len(segments), segments.labels
     sizes = np.maximum(segments.sizes, 1)
@@ -124,8 +125,8 @@ def score_segments(
     score = np.where(gates, share, 0.0)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         score *= np.minimum(np.sqrt(12.0 * segments.spread_along) / params.line_length_m, 1.0)
-    if static is not None:
-        score *= 1.0 - _world_static_share(segments, *static)
+    if static is not None and score.any():
+        score *= 1.0 - _world_static_share(segments, score > 0.0, static)
     # nothing lies beyond a floor line: returns there show a wall beside open space
     score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
@@ -140,13 +141,16 @@ def score_segments(
     return SegmentScores(score, gates, share, new_counts, tilt, down, down_tilt)
 
 
-def _world_static_share(segments: Segments, static: np.ndarray, telling: np.ndarray) -> np.ndarray:
-    """Per segment: the share of its points that stayed put in the world, where at least
-    half of them tell (else 0: a line that moves with the sensor and a wall look alike
-    while the sensor stands)."""
-    k, labels = len(segments), segments.labels
+def _world_static_share(segments: Segments, scored: np.ndarray, static: WorldStatic) -> np.ndarray:
+    """Per scored segment: the share of its points that stayed put in the world, where at
+    least half of them tell (else 0: a line that moves with the sensor and a wall look
+    alike while the sensor stands)."""
+    k = len(segments)
+    points = indices(scored.take(segments.labels))
+    stayed, telling = static.at(segments.beams.take(points))
+    labels = segments.labels.take(points)
     told = np.bincount(labels, telling, k)
-    share = np.bincount(labels, static, k) / np.maximum(told, 1.0)
+    share = np.bincount(labels, stayed, k) / np.maximum(told, 1.0)
     return np.where(told >= 0.5 * segments.sizes, share, 0.0)
 
 

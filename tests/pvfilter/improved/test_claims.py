@@ -52,5 +52,5 @@ def test_the_best_claim_wins():
     segments = segments_of(floor, tail)
     score = np.zeros(len(segments))
     score[segments.labels[0]] = 0.8
-    owner, best = best_claims(segments, score, PARAMS)
+    owner, best = best_claims(segments, score, segments.sizes.astype(float), PARAMS)
     assert (owner == segments.labels[0]).all() and (best == 0.8).all()

@@ -20,7 +20,9 @@ def prepared(scan):
     valid = scan.valid_mask()
     points = layout.points(np.where(valid, scan.ranges, np.nan))
     beams = np.flatnonzero(valid)
-    return layout, points, segment_scan(points[beams], beams, layout.increment, PARAMS)
+    directions = np.full(len(scan), np.nan)
+    directions[beams] = segment_scan(points[beams], beams, layout.increment, PARAMS).directions
+    return layout, points, directions
 
 
 def matched(reference, scan, pose_before=None, pose_after=None, tilt=None):

@@ -86,12 +86,21 @@ def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_
     assert result.scores[0] == pytest.approx(PARAMS.up_side_weight)
 
 
+class Told:
+    """A stand-in world-static test: every point stayed put, and the test tells or not."""
+
+    def __init__(self, tells):
+        self.tells = tells
+
+    def at(self, beams):
+        return np.ones(len(beams), bool), np.full(len(beams), self.tells)
+
+
 def test_a_line_that_stayed_put_in_the_world_while_the_sensor_moved_is_a_wall():
     wall = line(1.5, -1.0, 1.5, 1.0)
-    stayed, telling = np.ones(40, bool), np.ones(40, bool)
-    _, result = scored(wall, static=(stayed, telling))
+    _, result = scored(wall, static=Told(True))
     assert result.scores[0] == 0.0
-    _, standing = scored(wall, static=(stayed, np.zeros(40, bool)))  # nothing told
+    _, standing = scored(wall, static=Told(False))  # the sensor stood: nothing told
     assert standing.scores[0] == pytest.approx(1.0)
 
 
