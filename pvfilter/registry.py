@@ -107,7 +107,7 @@ _BUILT_IN = (
         ImprovedPitchVariationFilter,
         ImprovedParams,
         "the improved filter: free-space evidence and tilted-plane geometry",
-        accepts=("pitch_rad", "roll_rad"),
+        accepts=("pitch_rad", "roll_rad", "pose_sensor_in_odom"),
         threshold="p_th",
         one_pass=True,
     ),
