@@ -13,7 +13,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    most new points, at least ``down_side_min_new``), or the IMU's. On the up side there is
    only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the tilt the
    strongest line implies: a nearer line there is furniture met at another height, and its
-   score is multiplied by ``up_side_weight``.
+   score is multiplied by ``up_side_weight``. A scan with no strong line and no IMU shows
+   no pitch event at all (a tilted plane meets the floor along a whole line): all its
+   lines are weighted so, as short new structure in clutter most often is.
 4. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
    error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
    independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
@@ -134,6 +136,8 @@ def score_segments(
     if down != 0 and params.up_side_weight < 1.0:
         too_near = segments.distances < ceiling_min_distance(down_tilt, params)
         score[(side == -down) & too_near] *= params.up_side_weight
+    elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
+        score *= params.up_side_weight
     if attitude is not None:
         agree, contradict = _imu_agreement(segments, side, tilt, attitude, params)
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - IMU_SUPPORT), score)

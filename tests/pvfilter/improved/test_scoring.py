@@ -122,3 +122,14 @@ def test_a_wall_seen_beside_open_space_is_not_the_floor():
         length = math.sqrt(12.0 * segments.spread_along[label]) / PARAMS.line_length_m
         share = result.share_new[label] * min(length, 1.0)
         assert result.scores[label] == pytest.approx(expected * share, rel=1e-6)
+
+
+def test_a_weak_line_alone_shows_no_pitch_event():
+    # 12 new points across the direction of travel, nothing else: clutter, weighted down;
+    # with the IMU saying the plane is tilted there, it is the floor line
+    tilt = math.radians(10.0)
+    weak = line(HEIGHT_M / math.sin(tilt), -0.8, HEIGHT_M / math.sin(tilt), 0.8, 12)
+    _, alone = scored(weak)
+    assert alone.down_side == 0 and alone.scores[0] == pytest.approx(PARAMS.up_side_weight)
+    _, with_imu = scored(weak, attitude=Attitude(tilt, 0.0, math.radians(2.0)))
+    assert with_imu.down_side == 1 and with_imu.scores[0] == pytest.approx(1.0)
