@@ -121,7 +121,7 @@ class ImprovedParams:
     line_angle_deg: float = 40.0  # deg
     break_distance_m: float = 0.15  # m
     min_points: int = 8  # points
-    line_length_m: float = 0.8  # m
+    line_length_m: float = 0.6  # m
     extend_beams: int = 10  # beams
     extend_tolerance_m: float = 0.03  # m
     spread: bool = True
