@@ -2,9 +2,10 @@
 
 :class:`ImprovedPitchVariationFilter` is a :class:`pvfilter.ScanFilter` (``process(scan)``,
 ``reset()``; its result an :class:`ImprovedResult`), and optionally takes the robot's
-pitch and roll from an IMU. Its parameters (:class:`ImprovedParams`) are
-physical quantities; ``twsb tune`` fits them to a robot and writes a file that
-:func:`load_params` reads (no simulator needed).
+pitch and roll from its IMU estimator and the LiDAR's pose from wheel odometry. Its
+parameters (:class:`ImprovedParams`) are physical quantities; ``twsb tune`` fits them to
+a robot and writes a file that :func:`load_params` reads (no simulator needed). How it
+works: ``docs/improved_filter.md``.
 """
 
 from pvfilter.improved.beams import BeamLayout

@@ -31,9 +31,9 @@ from pvfilter.improved.motion import (
     coarse_turn,
     estimate_motion,
     odometry_motion,
-    unstretch,
 )
 from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.sweep import unstretch
 
 ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, besides slip
 ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip

@@ -27,10 +27,11 @@ from pvfilter.improved.egomotion import EgoMotion, Match
 from pvfilter.improved.evidence import RecentScans, WorldStatic, free_space_gaps, new_points
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
-from pvfilter.improved.motion import Motion, deskew, unstretch
+from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.segmentation import segment_scan
+from pvfilter.improved.sweep import deskew, unstretch
 from pvfilter.scan import Scan
 from pvfilter.stamps import stamp_went_back
 

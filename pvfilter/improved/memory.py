@@ -37,8 +37,9 @@ import dataclasses
 import numpy as np
 
 from pvfilter.improved.beams import BeamLayout, indices
-from pvfilter.improved.motion import Motion, move_scan
+from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.sweep import move_scan
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -16,7 +16,13 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    score is multiplied by ``up_side_weight``. A scan with no strong line and no IMU shows
    no pitch event at all (a tilted plane meets the floor along a whole line): all its
    lines are weighted so, as short new structure in clutter most often is.
-4. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
+4. **Length, the world, what lies beyond**: a floor line spans the open space, so a
+   segment shorter than ``line_length_m`` scores in proportion to its length; one whose
+   points stayed put in the world while the sensor moved along them is a wall (the
+   world-static test, :mod:`pvfilter.improved.evidence`), and one with returns beyond it
+   on its side is not where the plane meets the floor
+   (:func:`pvfilter.improved.geometry.seen_beyond`): both are weighted down.
+5. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
    error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
    independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
    explain (a floor line nearer than its tilt allows) is weighted like a line on the up

@@ -14,7 +14,7 @@ from pvfilter.improved.geometry import (
     lean_ok,
     seen_beyond,
 )
-from pvfilter.improved.motion import unstretch
+from pvfilter.improved.sweep import unstretch
 from pvfilter.synthetic import room_segments
 
 from .conftest import HEIGHT_M, tilted_scan

@@ -6,13 +6,8 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, Motion, estimate_motion, segment_scan
-from pvfilter.improved.motion import (
-    coarse_turn,
-    deskew,
-    move_scan,
-    odometry_motion,
-    skew,
-)
+from pvfilter.improved.motion import coarse_turn, odometry_motion
+from pvfilter.improved.sweep import deskew, move_scan, skew
 
 from .conftest import room_scan
 
