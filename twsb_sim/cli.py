@@ -1,21 +1,30 @@
 """The ``twsb`` command line.
 
 ``twsb run SCENARIO`` simulates a scenario with the filter in the loop, shows a progress
-bar, prints a summary and (with ``--out``) writes the frames. User mistakes (a bad
-scenario file, a wrong flag value) print one line naming the problem and exit with
-status 2, never a traceback.
+bar, prints a summary and (with ``--out``) writes the frames.
+
+Exit status, the same for every command (``docs/robustness.md``): 0 done; 2 a user
+mistake (a bad scenario file, a wrong flag value, an output path that cannot be written),
+printed as one line naming the file or flag and the key, never a traceback; 3 the robot
+fell (``twsb run``); 130 interrupted by Ctrl-C (SIGINT) or SIGTERM, after what was made
+is kept or cleaned so that the same command can be run again; 141 the reader of the
+output went away (``twsb run ... | head -1``).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
+from twsb_sim.output_paths import output_folder
 from twsb_sim.rerun_log.recording import add_recording_args
 from twsb_sim.slam.cli import add_slam_parser
 from twsb_sim.tuning.cli import add_tune_parser
@@ -23,6 +32,8 @@ from twsb_sim.tuning.cli import add_tune_parser
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
 EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a Ctrl-C
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, as a shell reports `yes | head -1`
 
 
 def resolve_scenario(name_or_path: str) -> Path:
@@ -67,6 +78,8 @@ def _run(args: argparse.Namespace) -> int:
     scenario = load_scenario(path)
     if args.seed is not None and args.seed < 0:
         raise ConfigError("--seed", "", f"expected an integer >= 0, got {args.seed}")
+    if args.out is not None:
+        output_folder(args.out)
     sinks = []
     if args.out is not None:
         sinks.append(FrameWriter(args.out, scenario_file=path))
@@ -106,17 +119,41 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into the same clean stop as a Ctrl-C."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``twsb`` command."""
-    args = build_parser().parse_args(argv)
+    """Entry point of the ``twsb`` command: runs one command, returns its exit status."""
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
     try:
+        args = build_parser().parse_args(argv)
         return args.handler(args)
     except ConfigError as error:
         print(f"twsb: error: {error}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        print("twsb: interrupted", file=sys.stderr)
-        return 130
+    except (FileExistsError, IsADirectoryError, NotADirectoryError, PermissionError) as error:
+        # a path the user gave that cannot be written (the checks before the work catch
+        # most; these are the ones only the file system knows)
+        print(f"twsb: error: {error.filename}: {error.strerror}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt as error:
+        what = "terminated (SIGTERM)" if isinstance(error, Terminated) else "interrupted"
+        print(f"twsb: {what}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader left (| head): say nothing more, and keep Python's exit-time flush
+        # of stdout from failing again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_folder
 
 
 def add_eval_parser(commands: argparse._SubParsersAction) -> None:
@@ -55,6 +56,7 @@ def run_eval(args: argparse.Namespace) -> int:
     from twsb_sim.evaluation.experiment import run_evaluation
     from twsb_sim.evaluation.report import write_outputs
 
+    output_folder(args.out)
     overrides: dict[str, object] = {}
     if args.seeds is not None:
         if args.seeds < 1:

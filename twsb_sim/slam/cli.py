@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_folder
 
 
 def add_slam_parser(commands: argparse._SubParsersAction) -> None:
@@ -40,6 +41,7 @@ def _run_slam(args: argparse.Namespace) -> int:
     from twsb_sim.slam.pipeline import run_slam_experiment
     from twsb_sim.slam.systems import available_systems
 
+    output_folder(args.out)
     config = SlamConfig.quick() if args.quick else SlamConfig()
     overrides = {}
     if args.seeds is not None:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_file
 
 QUICK = {"episodes": 3, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
 VALIDATED = 5  # best sets of the search that are scored on the validation episodes
@@ -105,6 +106,7 @@ def run_tune(args: argparse.Namespace) -> int:
         raise ConfigError("--precision", "", f"expected a value in (0, 1], got {args.precision}")
     if args.out.suffix.lower() not in (".toml", ".json"):
         raise ConfigError(args.out, "", "the parameter file must end in .toml or .json")
+    output_file(args.out)
     progress = not args.quiet
     started = time.perf_counter()
     train = _simulate(episodes(args.seed, settings["episodes"], ranges), settings["episodes"],
