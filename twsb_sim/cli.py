@@ -22,12 +22,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
-from twsb_sim.dataset.cli import add_dataset_commands
-from twsb_sim.evaluation.cli import add_eval_parser
 from twsb_sim.output_paths import output_folder
-from twsb_sim.rerun_log.recording import add_recording_args
-from twsb_sim.slam.cli import add_slam_parser
-from twsb_sim.tuning.cli import add_tune_parser
 
 SCENARIOS_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
@@ -49,6 +44,8 @@ def resolve_scenario(name_or_path: str) -> Path:
 
 
 def _add_run_parser(commands: argparse._SubParsersAction) -> None:
+    from twsb_sim.rerun_log.recording import add_recording_args  # imports rerun: slow
+
     run = commands.add_parser(
         "run",
         help="simulate a scenario with the filter in the loop",
@@ -105,6 +102,13 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``twsb`` parser with every command (imported here, once the signal handlers
+    of :func:`main` are in place, so that a Ctrl-C during the imports is a clean stop)."""
+    from twsb_sim.dataset.cli import add_dataset_commands
+    from twsb_sim.evaluation.cli import add_eval_parser
+    from twsb_sim.slam.cli import add_slam_parser
+    from twsb_sim.tuning.cli import add_tune_parser
+
     parser = argparse.ArgumentParser(
         prog="twsb",
         description="A two-wheeled self-balancing robot with a labeled 2D LiDAR, and the "

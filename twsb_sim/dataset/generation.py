@@ -171,6 +171,11 @@ def generate(
             results.close()  # stops the pool or cancels the cluster's tasks now, not at exit
         bar.close()
         report.wall_s = time.perf_counter() - started
+        # an interrupt can land between a shard's rename and its summary being noted:
+        # the metadata follows the shards on disk
+        for k, path in finished_episodes(root).items():
+            if k not in summaries:
+                summaries[k] = read_summary(path)
         report.episodes = len(summaries)
         write_metadata(root, record, list(summaries.values()))
     return report

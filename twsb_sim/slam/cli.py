@@ -8,6 +8,7 @@ from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_folder
+from twsb_sim.staging import staged_folder
 
 
 def add_slam_parser(commands: argparse._SubParsersAction) -> None:
@@ -59,9 +60,10 @@ def _run_slam(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     command = "twsb slam " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["slam"] else "twsb slam"
-    outputs = run_slam_experiment(
-        config, args.out, progress=not args.quiet, rerun=not args.no_rerun, command=command
-    )
+    with staged_folder(args.out) as staging:  # the outputs appear whole or not at all
+        outputs = run_slam_experiment(
+            config, staging, progress=not args.quiet, rerun=not args.no_rerun, command=command
+        )
     failures = sum(r.failed for r in outputs.results)
     print(
         f"{len(outputs.results)} SLAM runs, {failures} tracking failures; "

@@ -23,6 +23,7 @@ import numpy as np
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_file
+from twsb_sim.staging import staged_file
 
 QUICK = {"episodes": 3, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
 VALIDATED = 5  # best sets of the search that are scored on the validation episodes
@@ -168,7 +169,8 @@ def run_tune(args: argparse.Namespace) -> int:
         "results": {name: dataclasses.asdict(s) for name, s in rows.items()},
         "wall_s": round(time.perf_counter() - started, 1),
     }
-    save_params(args.out, tuned, tuning)
+    with staged_file(args.out) as temporary:  # never a half-written parameter file
+        save_params(temporary, tuned, tuning)
     print(_report(rows, tuned, base, log, tuning))
     print(f"parameters written to {args.out} (pvfilter --params {args.out})")
     return 0
