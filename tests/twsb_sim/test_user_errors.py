@@ -182,7 +182,8 @@ def test_generate_refuses_a_ranges_file_that_is_not_utf8(tmp_path, capsys):
     assert "UTF-8" in _one_line_error(capsys)
 
 
-def test_a_diverging_simulation_stops_before_writing_reset_frames(tmp_path):
+def test_a_diverging_simulation_stops_before_writing_reset_frames(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT here
     from twsb_sim.frame_writer import FrameWriter
     from twsb_sim.runner import SimulationDiverged, run_scenario
     from twsb_sim.scenario import Scenario
