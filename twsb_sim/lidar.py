@@ -34,12 +34,27 @@ from twsb_sim.house.surfaces import ROBOT_GEOM_GROUP, SurfaceClass, surface_clas
 from twsb_sim.labels import BeamLabel
 
 _NUM_GEOM_GROUPS = 6  # mjNGROUP
+# bounds of what a 2D LiDAR can be: a finer, faster or longer-ranged scanner than any on
+# sale is a typo, and would only fill the memory (beams x rate x duration) or stall the run
+MAX_BEAMS_PER_REVOLUTION = 7200  # 0.05 deg resolution
+MIN_RATE_HZ = 1.0  # Hz, scans per second
+MAX_RATE_HZ = 50.0  # Hz; the physics runs at 500 Hz
+MAX_RANGE_MIN_M = 1.0  # m
+MAX_RANGE_M = 100.0  # m
+MAX_RANGE_NOISE_STD_M = 1.0  # m
 
 
 def _number(name: str, value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise ValueError(f"{name}: expected a finite number, got {value!r}")
     return float(value)
+
+
+def _bounded(name: str, value: object, low: float, high: float, unit: str) -> float:
+    number = _number(name, value)
+    if not low <= number <= high:
+        raise ValueError(f"{name}: expected {low:g} to {high:g} {unit}, got {value!r}")
+    return number
 
 
 @dataclass(frozen=True)
@@ -57,25 +72,24 @@ class LidarConfig:
 
     def __post_init__(self) -> None:
         n = self.beams_per_revolution
-        if isinstance(n, bool) or not isinstance(n, int) or n < 4:
-            raise ValueError(f"beams_per_revolution: expected an integer >= 4, got {n!r}")
-        if _number("rate_hz", self.rate_hz) <= 0:
-            raise ValueError(f"rate_hz: expected a positive number, got {self.rate_hz!r}")
+        if isinstance(n, bool) or not isinstance(n, int) or not 4 <= n <= MAX_BEAMS_PER_REVOLUTION:
+            raise ValueError(
+                f"beams_per_revolution: expected an integer in [4, {MAX_BEAMS_PER_REVOLUTION}],"
+                f" got {n!r}"
+            )
+        _bounded("rate_hz", self.rate_hz, MIN_RATE_HZ, MAX_RATE_HZ, "Hz")
         fov = _number("useful_fov_deg", self.useful_fov_deg)
         if not 0 < fov <= 360:
             raise ValueError(f"useful_fov_deg: expected a value in (0, 360], got {fov!r}")
-        _number("blocked_sector_center_deg", self.blocked_sector_center_deg)
-        if _number("range_min_m", self.range_min_m) < 0:
-            raise ValueError(f"range_min_m: expected a value >= 0, got {self.range_min_m!r}")
+        _bounded("blocked_sector_center_deg", self.blocked_sector_center_deg, -360.0, 360.0, "deg")
+        _bounded("range_min_m", self.range_min_m, 0.0, MAX_RANGE_MIN_M, "m")
         if _number("range_max_m", self.range_max_m) <= self.range_min_m:
             raise ValueError(
                 f"range_max_m: expected a value above range_min_m ({self.range_min_m}), "
                 f"got {self.range_max_m!r}"
             )
-        if _number("range_noise_std_m", self.range_noise_std_m) < 0:
-            raise ValueError(
-                f"range_noise_std_m: expected a value >= 0, got {self.range_noise_std_m!r}"
-            )
+        _bounded("range_max_m", self.range_max_m, 0.0, MAX_RANGE_M, "m")
+        _bounded("range_noise_std_m", self.range_noise_std_m, 0.0, MAX_RANGE_NOISE_STD_M, "m")
         nz = _number("horizontal_normal_min_z", self.horizontal_normal_min_z)
         if not 0 < nz <= 1:
             raise ValueError(f"horizontal_normal_min_z: expected a value in (0, 1], got {nz!r}")

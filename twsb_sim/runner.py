@@ -18,8 +18,10 @@ from tqdm import tqdm
 
 from pvfilter import ScanFilter
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.control.gains import UnstableClosedLoopError
 from twsb_sim.frame_filter import FrameFilter, as_frame_filter
 from twsb_sim.house import House, SpawnPose, make_house, random_house
+from twsb_sim.house.standing import ROBOT_HEIGHT_M, why_cannot_stand
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
 from twsb_sim.simulation import Simulation
@@ -28,15 +30,43 @@ from twsb_sim.summary import RunSummary
 from twsb_sim.timeline import heading_force_to_world, phase_at, sample_commands
 
 
+class SimulationDiverged(ConfigError):
+    """The physics blew up (MuJoCo reset the state): the scenario asks for more than the
+    simulation can take. The frames before it are kept; none after it is made."""
+
+    def __init__(self, source: str, reason: str) -> None:
+        super().__init__(
+            source,
+            "",
+            f"the simulation {reason}; a shove, a command or a robot value "
+            "of this scenario is beyond what the physics can take",
+        )
+
+
 def build_house(choice: HouseChoice) -> House:
     """The house a scenario asks for."""
     return make_house(choice.name) if choice.name is not None else random_house(choice.seed)
 
 
-def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, float, float]:
-    """The robot's start (x m, y m, yaw rad) from the scenario's house table."""
+LIDAR_HEAD_M = 0.05  # m, the scanner's head above its origin
+
+
+def start_pose(
+    choice: HouseChoice, house: House, source: str, lidar_height_m: float = 0.25
+) -> tuple[float, float, float]:
+    """The robot's start (x m, y m, yaw rad) from the scenario's house table.
+
+    Raises:
+        ConfigError: a spawn index the house does not have, or a ``start`` where the
+            robot cannot stand (outside the house, in a wall or a piece of furniture).
+    """
     if choice.start is not None:
         x, y, yaw_deg = choice.start
+        reason = why_cannot_stand(house, x, y, max(ROBOT_HEIGHT_M, lidar_height_m + LIDAR_HEAD_M))
+        if reason is not None:
+            raise ConfigError(
+                source, "house.start", f"no place for the robot at ({x:g}, {y:g}): {reason}"
+            )
         return x, y, math.radians(yaw_deg)
     if choice.spawn >= len(house.spawn_poses):
         raise ConfigError(
@@ -51,15 +81,19 @@ def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, f
 def simulation_for(scenario: Scenario, seed: int) -> Simulation:
     """Build the house, robot, controller and LiDAR of a scenario, robot at its start."""
     house = build_house(scenario.house)
-    sim = Simulation(
-        house,
-        robot=scenario.robot,
-        lidar=scenario.lidar,
-        controller=scenario.controller,
-        fall_pitch_deg=scenario.simulation.fall_pitch_deg,
-        seed=seed,
-    )
-    sim.reset(start_pose(scenario.house, house, scenario.source), seed)
+    start = start_pose(scenario.house, house, scenario.source, scenario.robot.lidar_height_m)
+    try:
+        sim = Simulation(
+            house,
+            robot=scenario.robot,
+            lidar=scenario.lidar,
+            controller=scenario.controller,
+            fall_pitch_deg=scenario.simulation.fall_pitch_deg,
+            seed=seed,
+        )
+    except UnstableClosedLoopError as error:
+        raise ConfigError(scenario.source, "controller", str(error)) from None
+    sim.reset(start, seed)
     return sim
 
 
@@ -156,6 +190,10 @@ def _simulate(
                 f"shove: {np.linalg.norm(force):.0f} N for {shove.duration_s:g} s"
                 + (f" ({shove.label})" if shove.label else "")
             )
+        diverged = sim.divergence()
+        if diverged is not None:  # the state was reset: no frame from here on is true
+            summary.end_reason = f"diverged before t={k * dt:.3f} s: {diverged}"
+            raise SimulationDiverged(scenario.source, summary.end_reason)
         fall = sim.fall_reason() if k in timeline_steps else None
         if fall is not None:
             reason = f"fell: {fall} at t={sim.time_s:.2f} s"

@@ -21,6 +21,10 @@ from twsb_sim.house import House, SpawnPose, add_house_to_spec
 from twsb_sim.lidar import Lidar, LidarConfig
 from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
 
+# MuJoCo's answer to a diverging simulation: it warns, then resets the state (time 0, the
+# model's origin), and stepping goes on as if nothing happened
+DIVERGENCE_WARNINGS = ("BADQACC", "BADQVEL", "BADQPOS")
+
 
 class RobotFell(RuntimeError):
     """The robot's |pitch| went beyond the fall limit: the run cannot go on."""
@@ -110,6 +114,16 @@ class Simulation:
             for i, stat in enumerate(self.data.warning)
             if stat.number > 0
         }
+
+    def divergence(self) -> str | None:
+        """Why the physics can no longer be trusted (None while it can): MuJoCo met a NaN,
+        an infinity or a huge value and reset the state, or a coordinate is not finite."""
+        for name in self.mujoco_warnings():
+            if name in DIVERGENCE_WARNINGS:
+                return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
+        if not np.isfinite(self.data.qpos).all() or not np.isfinite(self.data.qvel).all():
+            return "a position or velocity is not finite"
+        return None
 
     def fall_reason(self) -> str | None:
         """Why the robot counts as fallen now (None while it is up).

@@ -245,6 +245,12 @@ def load_randomization(path: str | Path | None) -> Randomization:
         table = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ConfigError(path, "", "no such ranges file") from None
+    except IsADirectoryError:
+        raise ConfigError(path, "", "is a folder, not a ranges file") from None
+    except UnicodeDecodeError as error:
+        raise ConfigError(
+            path, "", f"not UTF-8 text (byte {error.start}): not a TOML file"
+        ) from None
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(path, "", f"not valid TOML: {error}") from None
     return randomization_from_table(table, source=path)

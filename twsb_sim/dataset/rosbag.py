@@ -49,6 +49,7 @@ from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from twsb_sim.dataset.loader import ScanDataset
+from twsb_sim.staging import staged_file, staged_new_folder
 
 ODOM, FOOTPRINT, BASE, LASER, IMU = "odom", "base_footprint", "base_link", "laser", "imu_link"
 SCAN, LABELS = "/scan", "/scan/labels"
@@ -249,33 +250,43 @@ def export_bag(
     """
     if not math.isfinite(time_offset_s) or time_offset_s < 0:
         raise ValueError(f"time_offset_s: expected a finite value >= 0, got {time_offset_s}")
+    if Path(out).exists():
+        raise ValueError(f"out: {out} exists; a rosbag2 export writes a new folder")
     ros2 = _Messages(ros1=False)
     counts = dict.fromkeys(TOPICS, 0)
-    with Ros2Writer(Path(out), version=9, storage_plugin=StoragePlugin.MCAP) as writer:
-        connections = {
-            topic: writer.add_connection(
-                topic,
-                msgtype,
-                typestore=ros2.store,
-                offered_qos_profiles=[_LATCHED] if topic == "/tf_static" else [],
-            )
-            for topic, msgtype in TOPICS.items()
-        }
-        for topic, stamp_ns, message in episode_messages(dataset, episode, ros2, time_offset_s):
-            writer.write(connections[topic], stamp_ns, ros2.serialize(message, TOPICS[topic]))
-            counts[topic] += 1
-    if ros1_path is not None:
-        ros1 = _Messages(ros1=True)
-        with Ros1Writer(Path(ros1_path)) as writer:
+    # both bags are written under hidden names and renamed when complete (the folder
+    # last): an interrupted export leaves no half bag that a re-run would refuse
+    with staged_new_folder(Path(out)) as folder:
+        with Ros2Writer(folder, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
             connections = {
                 topic: writer.add_connection(
                     topic,
                     msgtype,
-                    typestore=ros1.store,
-                    latching=1 if topic == "/tf_static" else None,
+                    typestore=ros2.store,
+                    offered_qos_profiles=[_LATCHED] if topic == "/tf_static" else [],
                 )
                 for topic, msgtype in TOPICS.items()
             }
-            for topic, stamp_ns, message in episode_messages(dataset, episode, ros1, time_offset_s):
-                writer.write(connections[topic], stamp_ns, ros1.serialize(message, TOPICS[topic]))
+            for topic, stamp_ns, message in episode_messages(dataset, episode, ros2, time_offset_s):
+                writer.write(connections[topic], stamp_ns, ros2.serialize(message, TOPICS[topic]))
+                counts[topic] += 1
+        if ros1_path is not None:
+            _write_ros1(dataset, episode, Path(ros1_path), time_offset_s)
     return counts
+
+
+def _write_ros1(dataset: ScanDataset, episode: int, path: Path, time_offset_s: float) -> None:
+    """The same messages as a ROS 1 ``.bag`` file (replacing ``path`` when it exists)."""
+    ros1 = _Messages(ros1=True)
+    with staged_file(path) as file, Ros1Writer(file) as writer:
+        connections = {
+            topic: writer.add_connection(
+                topic,
+                msgtype,
+                typestore=ros1.store,
+                latching=1 if topic == "/tf_static" else None,
+            )
+            for topic, msgtype in TOPICS.items()
+        }
+        for topic, stamp_ns, message in episode_messages(dataset, episode, ros1, time_offset_s):
+            writer.write(connections[topic], stamp_ns, ros1.serialize(message, TOPICS[topic]))

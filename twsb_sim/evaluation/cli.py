@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_folder
+from twsb_sim.staging import staged_folder
 
 
 def add_eval_parser(commands: argparse._SubParsersAction) -> None:
@@ -55,6 +57,7 @@ def run_eval(args: argparse.Namespace) -> int:
     from twsb_sim.evaluation.experiment import run_evaluation
     from twsb_sim.evaluation.report import write_outputs
 
+    output_folder(args.out)
     overrides: dict[str, object] = {}
     if args.seeds is not None:
         if args.seeds < 1:
@@ -74,6 +77,7 @@ def run_eval(args: argparse.Namespace) -> int:
         raise ConfigError("twsb eval", "", str(error)) from None
     results, evaluation = run_evaluation(config, progress=not args.quiet)
     command = "twsb " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "twsb eval"
-    write_outputs(results, evaluation, args.out, command)
+    with staged_folder(args.out) as staging:  # the report appears whole or not at all
+        write_outputs(results, evaluation, staging, command)
     print(f"report written to {args.out}/report.md")
     return 0
