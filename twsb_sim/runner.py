@@ -56,6 +56,9 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
         controller=scenario.controller,
         fall_pitch_deg=scenario.simulation.fall_pitch_deg,
         seed=seed,
+        imu=scenario.imu,
+        attitude=scenario.attitude,
+        odometry=scenario.odometry,
     )
     sim.reset(start_pose(scenario.house, house, scenario.source), seed)
     return sim

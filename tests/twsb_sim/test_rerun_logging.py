@@ -195,7 +195,8 @@ def test_robot_state_is_sampled_between_frames(hard_stop_recording):
             sim_time_rows += chunk.num_rows
     frame_rows = entity_rows(path, paths.PLOT_PITCH, "Scalars:scalars")
     assert len(frame_rows) == len(collect.frames)
-    assert sim_time_rows == 160 + 1  # 50 Hz over 3.2 s, both ends included
+    # 50 Hz over 3.2 s, both ends included, and the first scan's revolution before time 0
+    assert sim_time_rows == 160 + 1 + 1
     for frame in collect.frames:
         assert frame_rows[frame.index] == pytest.approx([np.degrees(frame.truth.pitch_rad)])
 

@@ -152,12 +152,18 @@ def run_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeResult
         )
         recorder.truncate(first)
     table = recorder.to_table(episode)
-    summary = _summary(draw, table, fell, end_reason)
+    summary = _summary(draw, table, fell, end_reason, recorder.intrinsics)
     summary["scan"] = recorder.intrinsics
     return EpisodeResult(table, summary)
 
 
-def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) -> dict[str, Any]:
+def _summary(
+    draw: EpisodeDraw,
+    table: pa.Table,
+    fell: bool,
+    end_reason: str,
+    scan: dict[str, float] | None,
+) -> dict[str, Any]:
     """The episode's record in the metadata (plain JSON values)."""
     n = table.num_rows
     labels = table["labels"].combine_chunks().values.to_numpy().reshape(n, -1)
@@ -170,6 +176,8 @@ def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) ->
     xy = np.column_stack([table["base_x_m"].to_numpy(), table["base_y_m"].to_numpy()])
     inside = Obstacles(draw.house.parts()).is_free(xy, ROBOT_RADIUS_M - FOOTPRINT_TOLERANCE_M)
     robot = RobotConfig(**draw.scenario_table["robot"])
+    # a counter-clockwise scan's stamp is the start of its revolution: the run ran on to its end
+    revolution_s = max(0.0, scan["time_increment"] * scan["beams"]) if scan else 0.0
     return {
         "episode": draw.episode,
         "scans": n,
@@ -179,7 +187,7 @@ def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) ->
         "spawn": draw.spawn,
         "reversed_start": draw.reversed_start,
         "lane_m": [round(-draw.lane.behind_m, 3), round(draw.lane.ahead_m, 3)],
-        "simulated_s": round(float(table["stamp_s"][-1].as_py()), 3) if n else 0.0,
+        "simulated_s": round(float(table["stamp_s"][-1].as_py()) + revolution_s, 3) if n else 0.0,
         "beams_per_label": {
             label.name: int(np.count_nonzero(labels == label)) for label in BeamLabel
         },
