@@ -317,3 +317,24 @@ def test_logging_off_writes_no_file_and_the_run_works(short_scenario, tmp_path, 
 def test_contradictory_flags_are_a_usage_error(short_scenario, capsys):
     assert main(["run", str(short_scenario), "--quiet", "--headless", "--spawn"]) == EXIT_USAGE
     assert "--headless" in capsys.readouterr().err
+
+
+def test_imu_estimate_and_odometry_are_plotted_against_the_truth(hard_stop_recording):
+    path, collect = hard_stop_recording
+    estimate_rows = 0
+    for chunk in RrdReader(path).stream().to_chunks():
+        if chunk.entity_path == "/" + paths.PLOT_PITCH_ESTIMATE and not chunk.is_static:
+            estimate_rows += chunk.num_rows
+    assert estimate_rows == sum(len(f.sensors.imu) for f in collect.frames)  # every sample
+    errors = entity_rows(path, paths.PLOT_ODOMETRY_ERROR, "Scalars:scalars")
+    assert len(errors) == len(collect.frames)
+    first, last = collect.frames[0].truth, collect.frames[-1]
+    c, s = math.cos(first.yaw_rad), math.sin(first.yaw_rad)
+    odom_in_world = (
+        first.position_base_in_world[:2]
+        + np.array([[c, -s], [s, c]]) @ last.sensors.pose_base_in_odom[:2]
+    )
+    assert errors[last.index][0] == pytest.approx(
+        np.linalg.norm(last.truth.position_base_in_world[:2] - odom_in_world), abs=1e-6
+    )
+    assert len(entity_rows(path, paths.ODOMETRY, "Points3D:positions")) == len(collect.frames)

@@ -37,6 +37,7 @@ from twsb_sim.rerun_log.scans import (
     log_scan_styles,
     log_sensor_labels,
 )
+from twsb_sim.rerun_log.sensors import log_sensor_series, log_sensor_styles
 from twsb_sim.rerun_log.timelines import frame_times, sim_times
 
 if TYPE_CHECKING:
@@ -102,6 +103,7 @@ class RerunLogger:
         self._last_t_s = 0.0
         self._last_position: np.ndarray | None = None  # where the trajectory ends
         self._latest_frame_stamp = -math.inf  # s, of this run's latest scan
+        self._start_xy_yaw = np.zeros(3)  # the robot's start: the odom frame's origin
 
     # -- the run loop's hooks -------------------------------------------------------------
 
@@ -114,6 +116,8 @@ class RerunLogger:
             self._frame0 = self._frames_logged
         self._runs += 1
         self._sim, self._scenario, self._last_position = sim, scenario, None
+        truth = sim.truth()  # where the odom frame starts
+        self._start_xy_yaw = np.array([*truth.position_base_in_world[:2], truth.yaw_rad])
         self._latest_frame_stamp = -math.inf
         rec = self.rec
         if self.send_blueprint and self._runs == 1:
@@ -128,6 +132,7 @@ class RerunLogger:
         log_robot_body(rec, sim.model, sim.handles.base_body_id, sim.handles.lidar_site_id)
         log_sensor_view_frame(rec, sim.lidar.range_max)
         log_series_styles(rec)
+        log_sensor_styles(rec)
         log_scan_styles(rec)
         log_trajectory_style(rec)
         self._event(sim.time_s, f"run: {scenario.name} in {sim.house.name}")
@@ -200,6 +205,7 @@ class RerunLogger:
         rec, batch = self.rec, FrameBatch.of(frames, results, self._t0_s, self._frame0)
         log_lidar_hits(rec, batch)
         log_filter_series(rec, batch, self.p_th)
+        log_sensor_series(rec, batch, self._t0_s, self._start_xy_yaw)
         if len(decided := batch.with_results("removed")):
             log_filter_decisions(rec, decided)
         if len(unfiltered := batch.without_results("removed")):  # no decision to show
