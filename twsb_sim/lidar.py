@@ -46,7 +46,7 @@ from twsb_sim.sensors.checks import non_negative, number, within
 from twsb_sim.sensors.sweep import PoseTrack
 
 _NUM_GEOM_GROUPS = 6  # mjNGROUP
-_RANDOM_ROWS = 5  # uniform draws per beam and scan: 2 dropouts, 3 mixed pixels
+_RANDOM_ROWS = 5  # uniform draws per useful beam and scan: 2 dropouts, 3 mixed pixels
 
 Sweep = Literal["rotating", "instant"]
 Rotation = Literal["counter-clockwise", "clockwise"]
@@ -77,7 +77,7 @@ class LidarConfig:
     grazing_dropout_start_deg: float = 85.0  # incidence beyond which returns fade; 90 = never
     mixed_pixel_probability: float = 0.5  # a depth edge between two beams gives a mixed return
     mixed_pixel_min_jump_m: float = 0.2  # m, range jump between neighbours that is an edge
-    ray_groups: int = 2  # rotating sweep: ray casts per scan, each from its part's mid pose
+    ray_groups: int = 1  # rotating sweep: ray casts per scan, each from its part's mid pose
     horizontal_normal_min_z: float = 0.9  # abs(normal z) from which a surface is horizontal
 
     def __post_init__(self) -> None:
@@ -277,8 +277,8 @@ class Lidar:
         stamp = stamp_s
         origins, dirs = track.beams(stamp + self._beam_offsets_s, self._dirs_sensor)
         self._cast(data, origins, dirs, self._groups)
-        position, rotation = track.at(np.array([stamp]))
-        return self._reading(origins, dirs, rng, position[0], rotation[0], stamp)
+        position, rotation = track.at(stamp)
+        return self._reading(origins, dirs, rng, position, rotation, stamp)
 
     def _cast(
         self,
@@ -328,7 +328,7 @@ class Lidar:
         dist = self._dist
         normals = self._normals.reshape(-1, 3)
         normal_draws = rng.standard_normal(self.num_beams)[idx]
-        uniforms = rng.random((_RANDOM_ROWS, self.num_beams))[:, idx]
+        uniforms = rng.random((_RANDOM_ROWS, idx.size))  # a fixed count per scan
         miss = (self._geom_ids < 0) | (dist > cfg.range_max_m)
         cos_incidence = np.abs(np.einsum("ij,ij->i", normals, dirs))
         lost = ~miss & lidar_errors.dropped_returns(cos_incidence, uniforms[:2], cfg)
@@ -346,7 +346,7 @@ class Lidar:
             readings, dist, ~no_return, self._adjacent, uniforms[2:, :-1], cfg
         )
         readings = lidar_errors.quantised(readings, cfg.range_resolution_m)
-        ranges_useful = np.clip(readings, cfg.range_min_m, cfg.range_max_m)
+        ranges_useful = np.minimum(np.maximum(readings, cfg.range_min_m), cfg.range_max_m)
         ranges_useful[~miss & (dist < cfg.range_min_m)] = -np.inf
         ranges_useful[no_return] = np.inf  # after -inf: a miss reports dist = -1
 

@@ -6,7 +6,8 @@ zero in :class:`~twsb_sim.lidar.LidarConfig` (``LidarConfig.ideal()`` switches o
 - **dropouts**: a return is lost at random (``dropout_probability``), and more and more
   often as the beam meets its surface at a grazing angle: beyond
   ``grazing_dropout_start_deg`` from the surface normal the loss probability rises
-  linearly to 1 at 90 deg (too little light comes back). A lost return reads ``+inf``;
+  to 1 at 90 deg, linearly in the incidence's cosine (too little light comes back). A
+  lost return reads ``+inf``;
 - **range noise** growing with range: Gaussian, ``std = range_noise_std_m +
   range_noise_fraction * range``;
 - **mixed pixels**: where two neighbouring beams' true ranges differ by more than
@@ -43,11 +44,11 @@ def dropped_returns(
         ``(m,)`` bool, True where the return is lost.
     """
     lost = uniforms[0] < config.dropout_probability
-    start = math.radians(config.grazing_dropout_start_deg)
-    if start < math.pi / 2:
-        incidence = np.arccos(np.clip(cos_incidence, 0.0, 1.0))
-        p_grazing = np.clip((incidence - start) / (math.pi / 2 - start), 0.0, 1.0)
-        lost |= uniforms[1] < p_grazing
+    cos_start = math.cos(math.radians(config.grazing_dropout_start_deg))
+    if cos_start > 1e-12:
+        # linear in the cosine: within the last few degrees before 90, the same as linear
+        # in the angle to 0.1 %, without an arccos per beam
+        lost |= uniforms[1] < 1.0 - cos_incidence / cos_start
     return lost
 
 

@@ -10,7 +10,6 @@ The noise-free state stays in :class:`~twsb_sim.frame.RobotTruth`.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -18,7 +17,17 @@ import numpy as np
 
 
 def _frozen(array: object, shape_tail: tuple[int, ...]) -> np.ndarray:
-    out = np.array(array, dtype=np.float64).reshape((-1, *shape_tail))
+    """A read-only float64 array; one that already is (a view of a frozen block) is kept."""
+    if (
+        isinstance(array, np.ndarray)
+        and array.dtype == np.float64
+        and not array.flags.writeable
+        and array.shape[1:] == shape_tail
+    ):
+        return array
+    out = np.array(array, dtype=np.float64)
+    if out.shape[1:] != shape_tail:
+        out = out.reshape((-1, *shape_tail))
     out.flags.writeable = False
     return out
 
@@ -105,12 +114,8 @@ class SensorReadings:
     twist: np.ndarray
 
     def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
-            if isinstance(value, np.ndarray):
-                frozen = np.array(value, dtype=np.float64)
-                frozen.flags.writeable = False
-                object.__setattr__(self, f.name, frozen)
+        for name in ("attitude_rpy_rad", "pose_base_in_odom", "pose_lidar_in_odom", "twist"):
+            object.__setattr__(self, name, _frozen(getattr(self, name), ()))
 
     @property
     def attitude(self) -> Attitude:

@@ -12,6 +12,7 @@ direction is off the exact one by ~1e-6 rad), held constant outside the recorded
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,7 +67,8 @@ class PoseTrack:
     def _lerp(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, x axis and y axis at each time, ``(k, 3)`` each (axes not renormalised)."""
         last = len(self.positions) - 1
-        where = np.clip((np.asarray(times_s, float) - self.t_first_s) / self.dt_s, 0.0, last)
+        where = (np.asarray(times_s, float) - self.t_first_s) / self.dt_s
+        where = np.minimum(np.maximum(where, 0.0), last)  # cheaper than np.clip's wrapper
         j = np.minimum(where.astype(np.intp), max(last - 1, 0))
         a = (where - j)[:, None]
         j1 = np.minimum(j + 1, last)
@@ -76,13 +78,21 @@ class PoseTrack:
             out.append(before + a * (values.take(j1, axis=0) - before))
         return out[0], out[1], out[2]
 
-    def at(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Positions ``(k, 3)`` and sensor-to-world rotation matrices ``(k, 3, 3)``."""
-        positions, x_axes, y_axes = self._lerp(times_s)
-        x_axes /= np.linalg.norm(x_axes, axis=1, keepdims=True)
-        z_axes = np.cross(x_axes, y_axes)
-        z_axes /= np.linalg.norm(z_axes, axis=1, keepdims=True)
-        return positions, np.stack((x_axes, np.cross(z_axes, x_axes), z_axes), axis=-1)
+    def at(self, time_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Position ``(3,)`` and sensor-to-world rotation matrix ``(3, 3)`` at ``time_s``."""
+        last = len(self.positions) - 1
+        where = min(max((time_s - self.t_first_s) / self.dt_s, 0.0), float(last))
+        j = min(int(where), max(last - 1, 0))
+        k, a = min(j + 1, last), where - j
+        p, x, y = ((v[j] + a * (v[k] - v[j])).tolist()
+                   for v in (self.positions, self.x_axes, self.y_axes))  # fmt: skip
+        norm = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+        x = [c / norm for c in x]
+        z = [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]]
+        norm = math.sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2])
+        z = [c / norm for c in z]
+        y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+        return np.array(p), np.array([x, y, z]).T
 
     def beams(self, times_s: np.ndarray, dirs_sensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each beam's origin ``(k, 3)`` and unit direction in the world ``(k, 3)``.
