@@ -90,6 +90,9 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
             controller=scenario.controller,
             fall_pitch_deg=scenario.simulation.fall_pitch_deg,
             seed=seed,
+            imu=scenario.imu,
+            attitude=scenario.attitude,
+            odometry=scenario.odometry,
         )
     except UnstableClosedLoopError as error:
         raise ConfigError(scenario.source, "controller", str(error)) from None

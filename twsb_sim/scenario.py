@@ -15,8 +15,12 @@ A scenario is a TOML file (see ``scenarios/`` and the README's "Scenario files")
     [[shoves]]
     t_s = 5.0
     force_n = [60.0, 0.0, 0.0]
-    [robot]                  # overrides of RobotConfig, LidarConfig, LqrConfig, SimulationConfig
-    lidar_height_m = 0.30
+    [robot]                  # overrides of RobotConfig, LidarConfig, LqrConfig, SimulationConfig,
+    lidar_height_m = 0.30    # ImuConfig, AttitudeFilterConfig, OdometryConfig
+    [lidar]
+    sweep = "instant"        # a global-shutter scan (default: "rotating")
+    [imu]
+    rate_hz = 400.0
 
 Every mistake is reported as a :class:`~twsb_sim.config_errors.ConfigError` naming the
 file, the key and what was expected, so the command line prints one line, not a
@@ -36,6 +40,9 @@ from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.house.named import NAMED_HOUSES
 from twsb_sim.lidar import LidarConfig
 from twsb_sim.robot import RobotConfig
+from twsb_sim.sensors.attitude import AttitudeFilterConfig
+from twsb_sim.sensors.imu import ImuConfig
+from twsb_sim.sensors.odometry import OdometryConfig
 from twsb_sim.timeline import CommandPoint, Shove
 
 MAX_VELOCITY_MPS = 2.0  # m/s, beyond what a small home TWSB robot can do
@@ -106,6 +113,9 @@ class Scenario:
     lidar: LidarConfig = field(default_factory=LidarConfig)
     controller: LqrConfig = field(default_factory=LqrConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    imu: ImuConfig = field(default_factory=ImuConfig)
+    attitude: AttitudeFilterConfig = field(default_factory=AttitudeFilterConfig)
+    odometry: OdometryConfig = field(default_factory=OdometryConfig)
     description: str = ""
     seed: int = 0  # default seed; the command line's --seed wins
     source: str = "<code>"  # the file it was read from
@@ -117,6 +127,9 @@ _OVERRIDE_TABLES = {
     "lidar": LidarConfig,
     "controller": LqrConfig,
     "simulation": SimulationConfig,
+    "imu": ImuConfig,
+    "attitude": AttitudeFilterConfig,
+    "odometry": OdometryConfig,
 }
 _KNOWN_KEYS = {*_TOP_LEVEL_SCALARS, *_OVERRIDE_TABLES, "house", "commands", "shoves"}
 

@@ -98,7 +98,7 @@ class RunSummary:
     def add_frame(self, frame: Frame, removed: np.ndarray | None) -> None:
         """Fold one frame (and the filter's mask for it) into the totals."""
         self.frames += 1
-        self.simulated_s = max(self.simulated_s, frame.stamp_s)
+        self.simulated_s = max(self.simulated_s, frame.received_s)
         self.max_abs_pitch_deg = max(
             self.max_abs_pitch_deg, abs(math.degrees(frame.truth.pitch_rad))
         )

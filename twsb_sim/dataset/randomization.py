@@ -13,6 +13,8 @@ the defaults in that form):
     probability = 0.6
     [robot]
     lidar_height_m = 0.30        # fixed
+    [sensors]
+    lidar_tilt_deg = 0.0         # a level scan plane on every robot
 
 Mistakes raise :class:`~twsb_sim.config_errors.ConfigError` naming the file and the key.
 """
@@ -184,6 +186,33 @@ class RobotRanges:
 
 
 @dataclass(frozen=True)
+class SensorRanges:
+    """How far each robot's sensors stray from the defaults (``docs/sensors.md``).
+
+    The LiDAR's scan plane is tilted by ``lidar_tilt_deg`` towards a uniformly drawn
+    direction (pitch and roll); the IMU's noise densities and bias offsets are the
+    defaults (BMI088) times ``imu_error_scale``; each wheel's radius error is drawn on
+    its own.
+    """
+
+    lidar_tilt_deg: Range | float = (0.0, 3.0)  # deg, the scan plane off level on the robot
+    lidar_offset_x_m: Range | float = (-0.02, 0.05)  # m, LiDAR ahead of the axle centre
+    range_noise_fraction: Range | float = (0.005, 0.015)  # std per metre of range
+    dropout_probability: Range | float = (0.0, 0.02)  # returns lost at random
+    imu_error_scale: Range | float = (0.5, 2.0)  # times the data sheet's noise and offsets
+    wheel_radius_error: Range | float = (-0.01, 0.01)  # believed / true radius - 1, per wheel
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        _within("lidar_tilt_deg", self.lidar_tilt_deg, 0.0, 10.0)
+        _within("lidar_offset_x_m", self.lidar_offset_x_m, -0.15, 0.15)
+        _within("range_noise_fraction", self.range_noise_fraction, 0.0, 1.0)
+        _within("dropout_probability", self.dropout_probability, 0.0, 1.0)
+        _within("imu_error_scale", self.imu_error_scale, 0.0, 100.0)
+        _within("wheel_radius_error", self.wheel_radius_error, -0.2, 0.2)
+
+
+@dataclass(frozen=True)
 class Randomization:
     """All the ranges, one table each in a ranges file."""
 
@@ -192,6 +221,7 @@ class Randomization:
     motion: MotionRanges = field(default_factory=MotionRanges)
     shoves: ShoveRanges = field(default_factory=ShoveRanges)
     robot: RobotRanges = field(default_factory=RobotRanges)
+    sensors: SensorRanges = field(default_factory=SensorRanges)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
         """Plain values (ranges as lists), the form of a ranges file and of the metadata."""
