@@ -276,7 +276,7 @@ def test_every_skip_says_why_and_is_rare():
     skipped = [(page.name, b.line) for page in PAGES for b in blocks(page) if b.skip_reason]
     runnable = [b for page in PAGES for b in blocks(page) if b.language in {"python", *SHELLS}]
     assert all(b.skip_reason for page in PAGES for b in blocks(page) if "not run" in b.marker)
-    assert len(skipped) <= len(runnable) // 2, skipped
+    assert 4 * len(skipped) <= len(runnable), skipped  # at most one block in four
 
 
 def test_readme_is_a_short_door_with_the_two_commands_first():
