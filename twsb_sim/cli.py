@@ -128,7 +128,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
     try:
         args = build_parser().parse_args(argv)
-        return args.handler(args)
+        status = args.handler(args)
+        sys.stdout.flush()  # a closed pipe shows here, not in Python's exit-time flush
+        return status
     except ConfigError as error:
         print(f"twsb: error: {error}", file=sys.stderr)
         return EXIT_USAGE

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from twsb_sim.cli import EXIT_INTERRUPTED, main
+from twsb_sim.cli import EXIT_BROKEN_PIPE, EXIT_INTERRUPTED, main
 
 REPO = Path(__file__).resolve().parents[2]
 LONG = "duration_s = 60.0\n[[commands]]\nt_s = 0.5\nvelocity_mps = 0.5\nramp_s = 1.0\n"
@@ -81,6 +81,22 @@ def _file_appears(path: Path) -> Callable[[str], bool]:
 
 def _no_partials(folder: Path) -> None:
     assert not list(folder.rglob("*.partial*")), list(folder.rglob("*.partial*"))
+
+
+def test_a_closed_output_pipe_ends_quietly(tmp_path):
+    # as `twsb run ... | head -1` when head has left before the summary is printed
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text("duration_s = 0.3\n")
+    run = subprocess.Popen(
+        [sys.executable, "-m", "twsb_sim.cli", "run", str(scenario), "--quiet"],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    run.stdout.close()  # the reader is gone before the first line
+    stderr = run.stderr.read().decode()
+    assert run.wait(timeout=60) == EXIT_BROKEN_PIPE
+    assert stderr == ""
 
 
 @pytest.mark.parametrize("how", ["int", "term"])

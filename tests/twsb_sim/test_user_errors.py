@@ -202,3 +202,22 @@ def test_a_diverging_simulation_stops_before_writing_reset_frames(tmp_path, monk
         assert step_m.max() < 0.1  # no jump to the model's origin
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert summary["end_reason"].startswith("diverged")
+
+
+def test_eval_reads_its_parameter_file_before_simulating(tmp_path, capsys):
+    params = tmp_path / "tuned.toml"
+    params.write_bytes(b"\xff\xfe[improved]\n")
+    argv = ["eval", "--quick", "--quiet", "--out", str(tmp_path / "report")]
+    assert main([*argv, "--improved-params", str(params)]) == EXIT_USAGE
+    assert str(params) in _one_line_error(capsys)
+    assert not (tmp_path / "report").exists()
+
+
+def test_a_data_set_with_garbled_metadata_is_one_line(tmp_path, capsys):
+    root = tmp_path / "data"
+    (root / "meta").mkdir(parents=True)
+    (root / "meta" / "info.json").write_text('{"sett')
+    assert main(["generate", "--out", str(root), "--episodes", "1", "--quiet"]) == EXIT_USAGE
+    assert "meta/info.json" in _one_line_error(capsys)
+    assert main(["export-bag", str(root), "--out", str(tmp_path / "bag")]) == EXIT_USAGE
+    assert "not JSON" in _one_line_error(capsys)

@@ -106,11 +106,14 @@ def _generate(args: argparse.Namespace) -> int:
 def _export_bag(args: argparse.Namespace) -> int:
     from twsb_sim.dataset.loader import open_dataset
     from twsb_sim.dataset.rosbag import export_bag
+    from twsb_sim.dataset.store import DatasetMismatchError
 
     try:
         dataset = open_dataset(args.dataset)
     except FileNotFoundError as error:
         raise ConfigError(args.dataset, "", str(error).split(": ", 1)[-1]) from None
+    except DatasetMismatchError as error:
+        raise ConfigError(error.root, "", error.reason) from None
     if args.episode not in dataset.episode_ids:
         raise ConfigError("--episode", "", f"{args.dataset} has no episode {args.episode}")
     if args.out.exists():

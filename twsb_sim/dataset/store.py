@@ -139,11 +139,19 @@ def _write_json(path: Path, value: Any) -> None:
 
 
 def read_info(root: Path) -> dict[str, Any] | None:
-    """The data set's ``meta/info.json``, or None when there is none."""
+    """The data set's ``meta/info.json``, or None when there is none.
+
+    Raises:
+        DatasetMismatchError: the file is there but is not JSON.
+    """
     try:
         return json.loads((root / INFO_FILE).read_text(encoding="utf-8"))
     except FileNotFoundError:
         return None
+    except ValueError as error:  # not UTF-8, or not JSON
+        raise DatasetMismatchError(
+            root, f"{INFO_FILE} is not a data set's metadata (not JSON: {error})"
+        ) from None
 
 
 def prepare_output(root: Path, settings: dict[str, Any]) -> None:

@@ -51,6 +51,18 @@ def add_eval_parser(commands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run_eval)
 
 
+def _check_params_file(path: Path) -> None:
+    """Read the parameter file now, so a bad one fails in one line before the simulations."""
+    from pvfilter import ImprovedParams, load_params
+
+    try:
+        params = load_params(path)
+    except ValueError as error:  # also UnicodeDecodeError and TOML / JSON decode errors
+        raise ConfigError(path, "", str(error).removeprefix(f"{path}: ")) from None
+    if not isinstance(params, ImprovedParams):
+        raise ConfigError(path, "", "not improved-filter parameters (a twsb tune file)")
+
+
 def run_eval(args: argparse.Namespace) -> int:
     """Run the evaluation the arguments ask for and write the report folder."""
     from twsb_sim.evaluation.config import EvalConfig
@@ -68,6 +80,7 @@ def run_eval(args: argparse.Namespace) -> int:
     if args.improved_params is not None:
         if not args.improved_params.is_file():
             raise ConfigError(args.improved_params, "", "no such parameter file")
+        _check_params_file(args.improved_params)
         overrides["improved_params"] = str(args.improved_params)
     overrides["variations"] = args.variations
     overrides["improved"] = not args.no_improved
