@@ -156,7 +156,8 @@ class LidarReading:
         position_sensor_in_world: (3,) the sensor origin at the stamp (m).
         rotation_sensor_to_world: (3, 3) the sensor orientation at the stamp.
         stamp_s: time of beam 0, s.
-        origins_world: float64[n, 3], where each beam started (m); NaN for blocked beams.
+        useful_origins_world: float64[m, 3], where each useful (not blocked) beam
+            started (m), in beam order; :attr:`origins_world` spreads them over all beams.
     """
 
     ranges: np.ndarray
@@ -166,7 +167,14 @@ class LidarReading:
     position_sensor_in_world: np.ndarray
     rotation_sensor_to_world: np.ndarray = field(repr=False)
     stamp_s: float = 0.0
-    origins_world: np.ndarray | None = field(default=None, repr=False)
+    useful_origins_world: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def origins_world(self) -> np.ndarray:
+        """float64[n, 3], where each beam started (m); NaN for blocked beams."""
+        origins = np.full(self.hit_points_world.shape, np.nan)
+        origins[self.labels != BeamLabel.OCCLUDED] = self.useful_origins_world
+        return origins
 
 
 class Lidar:
@@ -338,8 +346,8 @@ class Lidar:
         cfg, idx = self.config, self._useful_idx
         dist = self._dist
         normals = self._normals.reshape(-1, 3)
-        normal_draws = rng.standard_normal(self.num_beams)[idx]
-        uniforms = rng.random((_RANDOM_ROWS, idx.size))  # a fixed count per scan
+        normal_draws = rng.standard_normal(idx.size)  # fixed counts per scan
+        uniforms = rng.random((_RANDOM_ROWS, idx.size))
         miss = (self._geom_ids < 0) | (dist > cfg.range_max_m)
         cos_incidence = np.abs(np.einsum("ij,ij->i", normals, dirs))
         lost = ~miss & lidar_errors.dropped_returns(cos_incidence, uniforms[:2], cfg)
@@ -373,8 +381,4 @@ class Lidar:
         geom_ids[idx] = geom
         points = np.full((n, 3), np.nan)
         points[idx] = points_useful
-        beam_origins = np.full((n, 3), np.nan)
-        beam_origins[idx] = origins
-        return LidarReading(
-            ranges, labels, points, geom_ids, position, rotation, stamp, beam_origins
-        )
+        return LidarReading(ranges, labels, points, geom_ids, position, rotation, stamp, origins)

@@ -47,7 +47,7 @@ class ComplementaryFilter:
         self.config = config
         self.dt_s = sample_period_s
         self.gain = config.time_constant_s / (config.time_constant_s + sample_period_s)
-        self.rpy_rad: np.ndarray | None = None  # None until the first sample
+        self.rpy_rad: tuple[float, float, float] | None = None  # None until the first sample
 
     def reset(self) -> None:
         """Forget the state: the next sample initialises from its accelerometer reading."""
@@ -62,33 +62,30 @@ class ComplementaryFilter:
         Returns:
             ``(k, 3)`` roll, pitch, yaw (rad) after each sample.
         """
-        out = np.empty((len(readings), 3))
         if not len(readings):
-            return out
+            return np.empty((0, 3))
         a, dt = self.gain, self.dt_s
         ax, ay, az = readings[:, 3], readings[:, 4], readings[:, 5]
-        roll_acc = np.arctan2(ay, az)  # gravity's direction, all samples at once
-        pitch_acc = np.arctan2(-ax, np.hypot(ay, az))
-        if self.rpy_rad is None:
-            roll, pitch, yaw = float(roll_acc[0]), float(pitch_acc[0]), 0.0
-        else:
-            roll, pitch, yaw = self.rpy_rad.tolist()
         b = 1.0 - a
-        sin, cos = math.sin, math.cos
-        rows = zip(
-            readings[:, :3].tolist(), (b * roll_acc).tolist(), (b * pitch_acc).tolist(), strict=True
-        )  # plain floats: this loop runs at the IMU rate
-        for k, ((wx, wy, wz), roll_pull, pitch_pull) in enumerate(rows):
+        roll_pull = (b * np.arctan2(ay, az)).tolist()  # gravity's direction, all at once
+        pitch_pull = (b * np.arctan2(-ax, np.hypot(ay, az))).tolist()
+        if self.rpy_rad is None:
+            roll, pitch, yaw = roll_pull[0] / b, pitch_pull[0] / b, 0.0
+        else:
+            roll, pitch, yaw = self.rpy_rad
+        sin, cos, tau, pi = math.sin, math.cos, math.tau, math.pi
+        out = []  # plain floats: this loop runs at the IMU rate
+        for (wx, wy, wz), roll_in, pitch_in in zip(
+            readings[:, :3].tolist(), roll_pull, pitch_pull, strict=True
+        ):
             sr, cr, cp = sin(roll), cos(roll), cos(pitch)
             turn = sr * wy + cr * wz
-            roll = a * (roll + (wx + turn * sin(pitch) / cp) * dt) + roll_pull
-            pitch = a * (pitch + (cr * wy - sr * wz) * dt) + pitch_pull
+            roll = a * (roll + (wx + turn * sin(pitch) / cp) * dt) + roll_in
+            pitch = a * (pitch + (cr * wy - sr * wz) * dt) + pitch_in
             yaw += turn / cp * dt
-            out[k] = (roll, pitch, yaw)
-        yaw = math.remainder(yaw, math.tau)
-        out[:, 2] = np.remainder(out[:, 2] + math.pi, math.tau) - math.pi
-        self.rpy_rad = np.array([roll, pitch, yaw])
-        return out
+            out.append((roll, pitch, (yaw + pi) % tau - pi))
+        self.rpy_rad = out[-1]
+        return np.array(out)
 
 
 def quat_from_rpy(roll_rad: float, pitch_rad: float, yaw_rad: float) -> np.ndarray:

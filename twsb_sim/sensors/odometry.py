@@ -96,26 +96,29 @@ class EncoderOdometry:
             ``(k, 3)`` poses (x m, y m, yaw rad in odom) and ``(k, 2)`` twists (m/s, rad/s).
         """
         ticks = self.ticks(wheel_angles_rad)
-        scale = (self.rad_per_tick or 1.0) * self.radii_m
         k = len(ticks)
-        steps = (np.diff(np.vstack((self._last_ticks, ticks)), axis=0) * scale).tolist()
-        if k:
-            self._last_ticks = ticks[-1].copy()
-        out = np.empty((k, 5))  # x, y, yaw, v, w
+        if not k:
+            return np.empty((0, 3)), np.empty((0, 2))
+        scale = (self.rad_per_tick or 1.0) * self.radii_m
+        previous = np.vstack((self._last_ticks, ticks[:-1]))
+        steps = ((ticks - previous) * scale).tolist()
+        self._last_ticks = ticks[-1].copy()
+        out = []
         x, y, yaw = self.pose.tolist()
         dt, track = self.dt_s, self.track_width_m
-        for i, (left, right) in enumerate(steps):  # plain floats: a few updates per call
+        sin, cos, tau = math.sin, math.cos, math.tau
+        for left, right in steps:  # plain floats: a few updates per call
             distance = 0.5 * (left + right)
             turn = (right - left) / track
             # the wheels drew an arc: its chord points at the mid heading and is shorter
             # than the arc by sin(turn / 2) / (turn / 2)
             heading, half = yaw + 0.5 * turn, 0.5 * turn
-            chord = distance * (math.sin(half) / half if abs(half) > 1e-9 else 1.0)
-            x += chord * math.cos(heading)
-            y += chord * math.sin(heading)
-            yaw = math.remainder(yaw + turn, math.tau)
-            out[i] = (x, y, yaw, distance / dt, turn / dt)
-        poses, twists = out[:, :3], out[:, 3:]
-        if k:
-            self.pose, self.twist = poses[-1].copy(), twists[-1].copy()
+            chord = distance * (sin(half) / half if abs(half) > 1e-9 else 1.0)
+            x += chord * cos(heading)
+            y += chord * sin(heading)
+            yaw = math.remainder(yaw + turn, tau)
+            out.append((x, y, yaw, distance / dt, turn / dt))
+        block = np.array(out)
+        poses, twists = block[:, :3], block[:, 3:]
+        self.pose, self.twist = block[-1, :3].copy(), block[-1, 3:].copy()
         return poses, twists

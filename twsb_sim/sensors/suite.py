@@ -64,6 +64,8 @@ class SensorSuite:
         self._pos_cols, self._quat_cols = (_columns(model, (n,)) for n in LIDAR_POSE_SENSORS)
         self._wheel_cols = _columns(model, ENCODER_SENSORS)
         self.keep_rows = math.ceil(sweep_s / self.dt_s) + 2
+        steps = (self.dt_s * imu.rate_hz, self.dt_s * odometry.rate_hz)  # steps per sample
+        self._imu_on_steps, self._odom_on_steps = (abs(1 / x - round(1 / x)) < 1e-9 for x in steps)
         self.rows = np.zeros((max(ROW_CAPACITY, 2 * self.keep_rows), model.nsensordata))
         self.count = 0  # rows filled
         self.t_first = 0.0  # s, the time of row 0
@@ -103,17 +105,21 @@ class SensorSuite:
         imu_times = self._sample_times(self._next_imu, imu_period, last)
         if len(imu_times):
             self._next_imu += len(imu_times)
-            readings = self.imu.measure(self._interpolate(imu_times, self._imu_cols))
-            rpy = self.filter.update(readings)
-            arrival = imu_times + self.imu_config.latency_s
-            block = np.column_stack((arrival, readings, rpy))
+            true = self._interpolate(imu_times, self._imu_cols, self._imu_on_steps)
+            readings = self.imu.measure(true)
+            block = np.empty((len(imu_times), 10))  # arrival s, gyro, accel, roll pitch yaw
+            block[:, 0] = imu_times + self.imu_config.latency_s
+            block[:, 1:7] = readings
+            block[:, 7:] = self.filter.update(readings)
             self._imu.append(block)
             self._recent_imu = np.vstack((self._recent_imu, block))
         odom_times = self._sample_times(self._next_odom, odom_period, last)
         if len(odom_times):
             self._next_odom += len(odom_times)
-            poses, twists = self.odometry.update(self._interpolate(odom_times, self._wheel_cols))
-            block = np.column_stack((odom_times, poses, twists))
+            wheels = self._interpolate(odom_times, self._wheel_cols, self._odom_on_steps)
+            poses, twists = self.odometry.update(wheels)
+            block = np.empty((len(odom_times), 6))  # stamp s, x, y, yaw, v, w
+            block[:, 0], block[:, 1:4], block[:, 4:] = odom_times, poses, twists
             self._odom.append(block)
             self._poses = np.vstack((self._poses, block))
         drop = self.count - self.keep_rows
@@ -127,11 +133,14 @@ class SensorSuite:
         stop = math.floor((last - self.t0) / period + _EPS) + 1
         return np.array([self.t0 + k * period for k in range(next_index, stop)])
 
-    def _interpolate(self, times: np.ndarray, columns: slice) -> np.ndarray:
-        """The recorded columns at ``times`` (within the recorded span), linearly."""
+    def _interpolate(self, times: np.ndarray, columns: slice, on_steps: bool) -> np.ndarray:
+        """The recorded columns at ``times`` (within the recorded span), linearly;
+        ``on_steps``: every time is a physics step's (the rate divides the physics')."""
         if self.count == 1:
             return np.repeat(self.rows[:1, columns], len(times), axis=0)
         position = (times - self.t_first) / self.dt_s
+        if on_steps:  # a rate that divides the physics': the samples are recorded rows
+            return self.rows[np.rint(position).astype(np.intp), columns]
         # np.minimum/np.maximum: np.clip's wrapper costs more than the clipping here
         i = np.minimum(np.maximum(np.floor(position + _EPS).astype(np.intp), 0), self.count - 2)
         a = np.minimum(np.maximum(position - i, 0.0), 1.0)[:, None]
@@ -144,12 +153,20 @@ class SensorSuite:
     def pose_track(self, data: mujoco.MjData) -> PoseTrack:
         """The LiDAR site's poses: the recorded steps, then ``data``'s current state (its
         kinematics current), which follows the last recorded step by one step."""
-        rows = self.rows[: self.count]
-        now_is_next = abs(float(data.time) - (self.t_first + self.count * self.dt_s)) < _EPS
-        samples = np.vstack((rows, data.sensordata)) if now_is_next or not self.count else rows
-        t_first = self.t_first if self.count else float(data.time)
-        positions, quats = samples[:, self._pos_cols], samples[:, self._quat_cols]
-        return PoseTrack.from_quats(t_first, self.dt_s, positions, quats)
+        n, now = self.count, float(data.time)
+        if n and abs(now - (self.t_first + n * self.dt_s)) > _EPS:  # not the next step
+            samples = self.rows[:n]
+        else:
+            if n == len(self.rows):
+                self.sync()
+                n = self.count
+            # the next step records this same state again: the free row holds it till then
+            self.rows[n] = data.sensordata
+            samples = self.rows[: n + 1]
+        t_first = self.t_first if n else now
+        return PoseTrack.from_quats(
+            t_first, self.dt_s, samples[:, self._pos_cols], samples[:, self._quat_cols]
+        )
 
     def readings(self, stamp_s: float, now_s: float) -> SensorReadings:
         """The streams that reached the robot by ``now_s`` since the last call, and the
@@ -181,9 +198,9 @@ class SensorSuite:
             pose_lidar_in_odom=lidar,
             twist=self.twist_at(stamp_s),
         )
-        old = min(stamp_s, now_s) - LOOKUP_HISTORY_S
-        self._recent_imu = self._recent_imu[self._recent_imu[:, 0] >= old]
-        self._poses = self._poses[self._poses[:, 0] >= old]
+        old = min(stamp_s, now_s) - LOOKUP_HISTORY_S  # both are in time order
+        self._recent_imu = self._recent_imu[np.searchsorted(self._recent_imu[:, 0], old) :]
+        self._poses = self._poses[np.searchsorted(self._poses[:, 0], old) :]
         return readings
 
     def attitude_at(self, t_s: float) -> np.ndarray:

@@ -18,18 +18,19 @@ from dataclasses import dataclass
 import numpy as np
 
 
-def axes_from_quats(quats_wxyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The rotated x and y axes ``(k, 3)`` of unit quaternions ``(k, 4)`` (w, x, y, z)."""
+def poses_from_quats(positions: np.ndarray, quats_wxyz: np.ndarray) -> np.ndarray:
+    """``(k, 9)`` rows: position, x axis, y axis of positions ``(k, 3)`` and unit
+    quaternions ``(k, 4)`` (w, x, y, z)."""
     w, x, y, z = np.asarray(quats_wxyz, dtype=np.float64).reshape(-1, 4).T
-    x_axes = np.empty((len(w), 3))
-    y_axes = np.empty((len(w), 3))
-    x_axes[:, 0] = 1 - 2 * (y * y + z * z)
-    x_axes[:, 1] = 2 * (x * y + w * z)
-    x_axes[:, 2] = 2 * (x * z - w * y)
-    y_axes[:, 0] = 2 * (x * y - w * z)
-    y_axes[:, 1] = 1 - 2 * (x * x + z * z)
-    y_axes[:, 2] = 2 * (y * z + w * x)
-    return x_axes, y_axes
+    out = np.empty((len(w), 9))
+    out[:, :3] = positions
+    out[:, 3] = 1 - 2 * (y * y + z * z)
+    out[:, 4] = 2 * (x * y + w * z)
+    out[:, 5] = 2 * (x * z - w * y)
+    out[:, 6] = 2 * (x * y - w * z)
+    out[:, 7] = 1 - 2 * (x * x + z * z)
+    out[:, 8] = 2 * (y * z + w * x)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,21 +40,17 @@ class PoseTrack:
     Attributes:
         t_first_s: time of the first pose, s.
         dt_s: time between poses, s (> 0).
-        positions: ``(m, 3)`` sensor origin in the world, m.
-        x_axes: ``(m, 3)`` the sensor's x axis (beam angle 0) in the world.
-        y_axes: ``(m, 3)`` the sensor's y axis (beam angle 90 deg) in the world.
+        poses: ``(m, 9)`` per pose: the sensor origin in the world (m), its x axis (beam
+            angle 0) and its y axis (beam angle 90 deg) in the world.
     """
 
     t_first_s: float
     dt_s: float
-    positions: np.ndarray
-    x_axes: np.ndarray
-    y_axes: np.ndarray
+    poses: np.ndarray
 
     def __post_init__(self) -> None:
-        m = len(self.positions)
-        if not m or len(self.x_axes) != m or len(self.y_axes) != m:
-            raise ValueError("positions: expected as many poses as axes, at least one")
+        if self.poses.ndim != 2 or self.poses.shape[1] != 9 or not len(self.poses):
+            raise ValueError(f"poses: expected an (m >= 1, 9) array, got {self.poses.shape}")
         if not self.dt_s > 0:
             raise ValueError(f"dt_s: expected a value > 0, got {self.dt_s!r}")
 
@@ -62,30 +59,26 @@ class PoseTrack:
         cls, t_first_s: float, dt_s: float, positions: np.ndarray, quats_wxyz: np.ndarray
     ) -> PoseTrack:
         """A track from positions and orientations as unit quaternions (w, x, y, z)."""
-        return cls(t_first_s, dt_s, np.asarray(positions, float), *axes_from_quats(quats_wxyz))
+        return cls(t_first_s, dt_s, poses_from_quats(positions, quats_wxyz))
 
-    def _lerp(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, x axis and y axis at each time, ``(k, 3)`` each (axes not renormalised)."""
-        last = len(self.positions) - 1
+    def _lerp(self, times_s: np.ndarray) -> np.ndarray:
+        """``(k, 9)`` poses at each time (axes not renormalised)."""
+        last = len(self.poses) - 1
         where = (np.asarray(times_s, float) - self.t_first_s) / self.dt_s
         where = np.minimum(np.maximum(where, 0.0), last)  # cheaper than np.clip's wrapper
         j = np.minimum(where.astype(np.intp), max(last - 1, 0))
-        a = (where - j)[:, None]
-        j1 = np.minimum(j + 1, last)
-        out = []
-        for values in (self.positions, self.x_axes, self.y_axes):
-            before = values.take(j, axis=0)
-            out.append(before + a * (values.take(j1, axis=0) - before))
-        return out[0], out[1], out[2]
+        before = self.poses.take(j, axis=0)
+        after = self.poses.take(np.minimum(j + 1, last), axis=0)
+        return before + (where - j)[:, None] * (after - before)
 
     def at(self, time_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Position ``(3,)`` and sensor-to-world rotation matrix ``(3, 3)`` at ``time_s``."""
-        last = len(self.positions) - 1
+        last = len(self.poses) - 1
         where = min(max((time_s - self.t_first_s) / self.dt_s, 0.0), float(last))
         j = min(int(where), max(last - 1, 0))
         k, a = min(j + 1, last), where - j
-        p, x, y = ((v[j] + a * (v[k] - v[j])).tolist()
-                   for v in (self.positions, self.x_axes, self.y_axes))  # fmt: skip
+        pose = (self.poses[j] + a * (self.poses[k] - self.poses[j])).tolist()
+        p, x, y = pose[:3], pose[3:6], pose[6:]
         norm = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         x = [c / norm for c in x]
         z = [x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]]
@@ -101,7 +94,8 @@ class PoseTrack:
             times_s: ``(k,)`` when each beam was measured, s.
             dirs_sensor: ``(k, 3)`` unit beam directions in the sensor's x-y plane.
         """
-        origins, x_axes, y_axes = self._lerp(times_s)
-        dirs = dirs_sensor[:, :1] * x_axes + dirs_sensor[:, 1:2] * y_axes
+        poses = self._lerp(times_s)
+        # a beam in the x-y plane needs only the sensor's x and y axes: d = c x + s y
+        dirs = dirs_sensor[:, :1] * poses[:, 3:6] + dirs_sensor[:, 1:2] * poses[:, 6:9]
         dirs /= np.sqrt(np.einsum("ki,ki->k", dirs, dirs))[:, None]
-        return origins, dirs
+        return poses[:, :3], dirs
