@@ -59,7 +59,7 @@ class Command:
                 os.killpg(self.process.pid, signal.SIGINT)
             else:
                 self.process.send_signal(signal.SIGTERM)
-            returncode = self.process.wait(timeout=60)
+            returncode = self.process.wait(timeout=180)  # a loaded machine is slow to stop
             self._reader.join(10)
             return returncode
         finally:
