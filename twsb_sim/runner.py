@@ -8,6 +8,7 @@ physics step.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -18,8 +19,10 @@ from tqdm import tqdm
 
 from pvfilter import ScanFilter
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.environment import check_rooms, house_extras, movers
 from twsb_sim.frame_filter import FrameFilter, as_frame_filter
-from twsb_sim.house import House, SpawnPose, make_house, random_house
+from twsb_sim.house import House, HouseExtras, SpawnPose, house_with
+from twsb_sim.movers import MoverSet
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
 from twsb_sim.simulation import Simulation
@@ -28,9 +31,27 @@ from twsb_sim.summary import RunSummary
 from twsb_sim.timeline import heading_force_to_world, phase_at, sample_commands
 
 
-def build_house(choice: HouseChoice) -> House:
-    """The house a scenario asks for."""
-    return make_house(choice.name) if choice.name is not None else random_house(choice.seed)
+def build_house(choice: HouseChoice, extras: HouseExtras | None = None) -> House:
+    """The house a scenario asks for (with ``extras`` added)."""
+    return house_with(choice.name, choice.seed, extras)
+
+
+def scenario_world(scenario: Scenario) -> tuple[House, MoverSet, tuple[float, float, float]]:
+    """The house (with what the scenario adds to it), its movers, and the robot's start.
+
+    Floor features on the robot's path and movers placed relative to the start pose are
+    placed once the start is known; they do not block, so they leave the spawn poses as
+    they are.
+    """
+    environment, source = scenario.environment, scenario.source
+    if not environment:
+        house = build_house(scenario.house)
+        return house, MoverSet(), start_pose(scenario.house, house, source)
+    check_rooms(environment, build_house(scenario.house), source)
+    fixed = dataclasses.replace(house_extras(environment, (0.0, 0.0, 0.0)), floor_features=())
+    start = start_pose(scenario.house, build_house(scenario.house, fixed), source)
+    house = build_house(scenario.house, house_extras(environment, start))
+    return house, movers(environment, house, start), start
 
 
 def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, float, float]:
@@ -49,8 +70,9 @@ def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, f
 
 
 def simulation_for(scenario: Scenario, seed: int) -> Simulation:
-    """Build the house, robot, controller and LiDAR of a scenario, robot at its start."""
-    house = build_house(scenario.house)
+    """Build the house, robot, controller, LiDAR and movers of a scenario, robot at its
+    start."""
+    house, mover_set, start = scenario_world(scenario)
     sim = Simulation(
         house,
         robot=scenario.robot,
@@ -58,8 +80,9 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
         controller=scenario.controller,
         fall_pitch_deg=scenario.simulation.fall_pitch_deg,
         seed=seed,
+        movers=mover_set,
     )
-    sim.reset(start_pose(scenario.house, house, scenario.source), seed)
+    sim.reset(start, seed)
     return sim
 
 

@@ -18,7 +18,9 @@ from pvfilter import Scan
 from twsb_sim.control.lqr import LqrConfig, LqrController
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
+from twsb_sim.movers import MoverSet
 from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
 
 
@@ -34,10 +36,12 @@ class Shove:
     point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
 
 
-def build_model(house: House, robot: RobotConfig) -> mujoco.MjModel:
-    """Compile the robot into the house."""
+def build_model(house: House, robot: RobotConfig, movers: MoverSet | None = None) -> mujoco.MjModel:
+    """Compile the robot into the house, with the movers (people, doors, ...) if any."""
     spec = load_robot_spec(robot)
     add_house_to_spec(spec, house)
+    if movers:
+        movers.add_to_spec(spec)
     return spec.compile()
 
 
@@ -50,6 +54,8 @@ class Simulation:
         fall_pitch_deg: |pitch| beyond which the robot counts as fallen.
         seed: seeds the LiDAR noise (a ``SeedSequence`` child); the physics itself is
             deterministic.
+        movers: people, pets, doors and light furniture in the house (none by default);
+            the kinematic ones are posed whenever the LiDAR casts.
     """
 
     def __init__(
@@ -60,13 +66,17 @@ class Simulation:
         controller: LqrConfig = LqrConfig(),  # noqa: B008
         fall_pitch_deg: float = 45.0,
         seed: int = 0,
+        movers: MoverSet | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
-        self.model = build_model(house, robot)
+        self.movers = movers if movers is not None else MoverSet()
+        self.model = build_model(house, robot, self.movers)
+        self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
+        self.level_view = LevelView(self.model, self.lidar)  # labels on ramps and slopes
         self.controller = LqrController(self.model, robot, controller)
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
@@ -88,6 +98,7 @@ class Simulation:
             self._seed = seed
         x, y, yaw = (pose.x_m, pose.y_m, pose.yaw_rad) if isinstance(pose, SpawnPose) else pose
         mujoco.mj_resetData(self.model, self.data)
+        self.movers.pose(self.data, 0.0)
         set_pose(self.model, self.data, x, y, yaw)
         self.controller.reset()
         self.noise_rng = np.random.default_rng(np.random.SeedSequence(self._seed).spawn(1)[0])
@@ -190,8 +201,10 @@ class Simulation:
         """Cast the LiDAR now and bundle the scan, labels and truth into a frame."""
         # after mj_step, derived quantities (site poses, sensors) lag qpos by one step:
         # recompute them so the scan, the IMU and the truth describe the same instant
+        self.movers.pose(self.data, self.time_s)
         mujoco.mj_forward(self.model, self.data)
         reading = self.lidar.scan(self.data, self.noise_rng)
+        labels = self.level_view.relabel(self.data, reading)
         scan = Scan(
             ranges=reading.ranges,
             angle_min=self.lidar.angle_min,
@@ -205,7 +218,7 @@ class Simulation:
         return Frame(
             index=index,
             scan=scan,
-            labels=reading.labels,
+            labels=labels,
             hit_points_world=reading.hit_points_world,
             truth=self.truth(),
             phase=phase,
