@@ -16,6 +16,7 @@ from pathlib import Path
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.dataset.cli import add_dataset_commands
 from twsb_sim.evaluation.cli import add_eval_parser
+from twsb_sim.evaluation.envelope_cli import add_envelope_parser
 from twsb_sim.filter_args import add_filter_args, filter_from_args, operating_threshold
 from twsb_sim.rerun_log.recording import add_recording_args
 from twsb_sim.scenario_files import resolve_scenario
@@ -88,6 +89,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_dataset_commands(commands)  # generate, export-bag
     add_slam_parser(commands)
     add_tune_parser(commands)
+    add_envelope_parser(commands)
     return parser
 
 

@@ -81,6 +81,7 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
         fall_pitch_deg=scenario.simulation.fall_pitch_deg,
         seed=seed,
         movers=mover_set,
+        balance=scenario.balance,
     )
     sim.reset(start, seed)
     return sim

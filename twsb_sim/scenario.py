@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from twsb_sim.config_errors import ConfigError, apply_overrides, coerce_value
+from twsb_sim.control.balance import BalanceConfig
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.environment import ENVIRONMENT_KEYS, Environment, environment_from_table
 from twsb_sim.lidar import LidarConfig
@@ -95,6 +96,7 @@ class Scenario:
     seed: int = 0  # default seed; the command line's --seed wins
     source: str = "<code>"  # the file it was read from
     environment: Environment = field(default_factory=Environment)  # floor, ceilings, movers
+    balance: BalanceConfig = field(default_factory=BalanceConfig)  # LQR or PID, stop brake
 
 
 _TOP_LEVEL_SCALARS = {"name": str, "description": str, "duration_s": float, "seed": int}
@@ -103,6 +105,7 @@ _OVERRIDE_TABLES = {
     "lidar": LidarConfig,
     "controller": LqrConfig,
     "simulation": SimulationConfig,
+    "balance": BalanceConfig,
 }
 _KNOWN_KEYS = {
     *_TOP_LEVEL_SCALARS,

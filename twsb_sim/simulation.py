@@ -15,7 +15,8 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
-from twsb_sim.control.lqr import LqrConfig, LqrController
+from twsb_sim.control.balance import BalanceConfig, make_balance_controller
+from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
 from twsb_sim.level_view import LevelView
@@ -56,6 +57,7 @@ class Simulation:
             deterministic.
         movers: people, pets, doors and light furniture in the house (none by default);
             the kinematic ones are posed whenever the LiDAR casts.
+        balance: the balance controller (the LQR by default) and its stop brake.
     """
 
     def __init__(
@@ -67,6 +69,7 @@ class Simulation:
         fall_pitch_deg: float = 45.0,
         seed: int = 0,
         movers: MoverSet | None = None,
+        balance: BalanceConfig | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
@@ -77,7 +80,7 @@ class Simulation:
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
         self.level_view = LevelView(self.model, self.lidar)  # labels on ramps and slopes
-        self.controller = LqrController(self.model, robot, controller)
+        self.controller = make_balance_controller(self.model, robot, controller, balance)
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
         self._seed = seed

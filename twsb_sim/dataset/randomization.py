@@ -26,6 +26,12 @@ from pathlib import Path
 from typing import Any
 
 from twsb_sim.config_errors import ConfigError, apply_overrides
+from twsb_sim.dataset.environment_ranges import (
+    CeilingRanges,
+    FloorRanges,
+    MoverRanges,
+    RobotClassWeights,
+)
 from twsb_sim.scenario import MAX_VELOCITY_MPS, MAX_YAW_RATE_RAD_S
 
 Range = tuple[float, float]
@@ -127,11 +133,16 @@ class MotionRanges:
 
 @dataclass(frozen=True)
 class ShoveRanges:
-    """Pushes on the robot's body: from behind or the front, or (fewer) from a side.
+    """Pushes on the robot's body: from behind or the front, or (fewer) from a side; while
+    it stands, drives, brakes or turns in place.
 
     How hard a push tips the robot depends on its angular impulse about the axle
-    (force x duration x height): about 9 deg of pitch per N·m·s, and a fall from about
-    5 N·m·s; sideways, it tips over from about 2.5 N·m·s. Forces are cut to the caps.
+    (force x duration x height): about 10 deg of pitch per N·m·s; the default robot
+    survives up to 3.7-4.4 N·m·s from behind or the front and 1.7-2.2 N·m·s from a side
+    (``twsb envelope``, docs/envelope.md). A push's angular impulse is drawn as
+    ``impulse_fraction`` of the cap of its direction, and its force follows from the drawn
+    duration and height; with ``impulse_fraction = 0`` the force is drawn from the force
+    ranges instead and cut to the caps.
     """
 
     probability: float = 0.35  # a pause or a drive carries a shove
@@ -143,6 +154,9 @@ class ShoveRanges:
     max_angular_impulse_n_m_s: float = 3.2  # N·m·s, cap of a push from behind or the front
     max_sideways_angular_impulse_n_m_s: float = 1.5  # N·m·s, cap of a push from a side
     displacement_m_per_n_s: float = 0.12  # m per N·s a push moves the robot (for planning)
+    impulse_fraction: Range | float = (0.1, 0.95)  # of the cap; 0 = draw forces instead
+    braking_probability: float = 0.3  # a drive's shove lands while it brakes, not cruises
+    turning_probability: float = 0.5  # a turn in place carries a shove (x probability)
 
     def __post_init__(self) -> None:
         _normalize(self)
@@ -160,6 +174,9 @@ class ShoveRanges:
             100.0,
         )
         _within("displacement_m_per_n_s", self.displacement_m_per_n_s, 0.0, 1.0)
+        _within("impulse_fraction", self.impulse_fraction, 0.0, 2.0)
+        _within("braking_probability", self.braking_probability, 0.0, 1.0)
+        _within("turning_probability", self.turning_probability, 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -192,6 +209,10 @@ class Randomization:
     motion: MotionRanges = field(default_factory=MotionRanges)
     shoves: ShoveRanges = field(default_factory=ShoveRanges)
     robot: RobotRanges = field(default_factory=RobotRanges)
+    floor: FloorRanges = field(default_factory=FloorRanges)
+    ceiling: CeilingRanges = field(default_factory=CeilingRanges)
+    movers: MoverRanges = field(default_factory=MoverRanges)
+    robot_classes: RobotClassWeights = field(default_factory=RobotClassWeights)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
         """Plain values (ranges as lists), the form of a ranges file and of the metadata."""
