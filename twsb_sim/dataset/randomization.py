@@ -138,11 +138,12 @@ class ShoveRanges:
 
     How hard a push tips the robot depends on its angular impulse about the axle
     (force x duration x height): about 10 deg of pitch per N·m·s; the default robot
-    survives up to 3.7-4.4 N·m·s from behind or the front and 1.7-2.2 N·m·s from a side
-    (``twsb envelope``, docs/envelope.md). A push's angular impulse is drawn as
-    ``impulse_fraction`` of the cap of its direction, and its force follows from the drawn
-    duration and height; with ``impulse_fraction = 0`` the force is drawn from the force
-    ranges instead and cut to the caps.
+    survives up to 3.7-4.4 N·m·s from behind or the front and 1.7-2.2 N·m·s from a side,
+    the randomized robots 3.4 / 3.6 / 4.6 N·m·s (10th / 25th / 50th percentile) and
+    1.8 / 1.9 / 2.2 N·m·s (``twsb envelope``, docs/envelope.md). A push's angular
+    impulse is drawn as ``impulse_fraction`` of the cap of its direction, and its force
+    follows from the drawn duration and height; with ``impulse_fraction = 0`` the force
+    is drawn from the force ranges instead and cut to the caps.
     """
 
     probability: float = 0.35  # a pause or a drive carries a shove
@@ -151,8 +152,9 @@ class ShoveRanges:
     lateral_force_n: Range | float = (5.0, 25.0)  # N, from the left or the right
     duration_s: Range | float = (0.08, 0.25)  # s
     height_m: Range | float = (0.25, 0.45)  # m above the axle where the force acts
-    max_angular_impulse_n_m_s: float = 3.2  # N·m·s, cap of a push from behind or the front
-    max_sideways_angular_impulse_n_m_s: float = 1.5  # N·m·s, cap of a push from a side
+    # caps: about the 25th (10th) percentile of what the randomized robots survive
+    max_angular_impulse_n_m_s: float = 3.6  # N·m·s, cap of a push from behind or the front
+    max_sideways_angular_impulse_n_m_s: float = 1.8  # N·m·s, cap of a push from a side
     displacement_m_per_n_s: float = 0.12  # m per N·s a push moves the robot (for planning)
     impulse_fraction: Range | float = (0.1, 0.95)  # of the cap; 0 = draw forces instead
     braking_probability: float = 0.3  # a drive's shove lands while it brakes, not cruises

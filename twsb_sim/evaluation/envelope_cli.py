@@ -99,7 +99,9 @@ def run_envelope(args: argparse.Namespace) -> int:
         "angular_impulse_percentiles_n_m_s": {
             d: {str(q): float(np.percentile([lim[d] for lim in limits], q)) for q in (10, 25, 50)}
             for d in ("behind", "front", "left")
-        },
+        }
+        if robots
+        else {},
     }
     if args.episodes:
         result["generator"] = generator_statistics(args.episodes, args.seed, ranges, args.workers)

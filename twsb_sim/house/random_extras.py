@@ -121,11 +121,9 @@ def _attic(rng, rooms, furniture, doorways, extent, ceiling_m) -> tuple[AtticSlo
                 continue
             # every doorway of the room stays under the slope with room to spare
             slope = math.tan(math.radians(pitch))
-            gaps = [g for d in doorways if (g := _door_gap_m(d, room, side)) is not None]
-            heights = [d.height_m for d in doorways if room.name in d.rooms]
-            if any(
-                knee + g * slope < h + DOOR_HEADROOM_M for g, h in zip(gaps, heights, strict=True)
-            ):
+            ours = [d for d in doorways if room.name in d.rooms]
+            clear = [knee + _door_gap_m(d, room, side) * slope - d.height_m for d in ours]
+            if any(c < DOOR_HEADROOM_M for c in clear):
                 continue
             strip = _strip(room, side, 1.0)
             tall = [p for p in furniture if p.height_m > knee and footprint(p).overlaps(strip)]
