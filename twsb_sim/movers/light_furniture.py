@@ -16,7 +16,11 @@ import mujoco
 from twsb_sim.movers.people import MOVER_GROUP
 
 LIGHT_FURNITURE_KINDS: tuple[str, ...] = ("box", "stool")
-FRICTION = 0.5  # sliding friction on the floor (wood on wood)
+# sliding friction of the piece, with priority over the floor's and the tyres' (1): it
+# slides on the floor under a push, and a wheel pressed against it slips instead of
+# climbing it (the robot has no bumper)
+FRICTION = 0.25
+FRICTION_PRIORITY = 2
 COLOURS = {"box": (0.70, 0.58, 0.40, 1.0), "stool": (0.45, 0.30, 0.18, 1.0)}
 
 
@@ -64,9 +68,12 @@ class LightFurniture:
             quat=[math.cos(half), 0, 0, math.sin(half)],
         )  # fmt: skip
         body.add_freejoint(name=f"{self.name}_free")
-        common = dict(
-            group=MOVER_GROUP, rgba=list(COLOURS[self.kind]), friction=[FRICTION, 0.005, 0.0001]
-        )
+        common = {
+            "group": MOVER_GROUP,
+            "rgba": list(COLOURS[self.kind]),
+            "friction": [FRICTION, 0.005, 0.0001],
+            "priority": FRICTION_PRIORITY,
+        }
         if self.kind == "box":
             body.add_geom(name=f"{self.name}_shell", type=mujoco.mjtGeom.mjGEOM_BOX,
                           size=[w / 2, d / 2, h / 2], mass=self.mass_kg, **common)  # fmt: skip

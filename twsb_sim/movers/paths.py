@@ -2,8 +2,8 @@
 
 A :class:`WalkPath` starts at its first waypoint and stands there until ``start_s``; then
 it walks from waypoint to waypoint at ``speed_mps``, and at every waypoint it reaches it
-stands for ``stand_s``, turning on the spot towards the next leg (at most
-``turn_rate_rad_s``). With ``back_and_forth`` it walks the path back again at the end,
+stands for ``stand_s``, turning on the spot towards the next leg at ``turn_rate_rad_s``
+(it stands as long as the turn takes, if that is longer). With ``back_and_forth`` it walks the path back again at the end,
 forever; otherwise it stays at the last waypoint. :meth:`WalkPath.at` is evaluated once
 per LiDAR scan, so it is plain scalar arithmetic over a precomputed timeline.
 """
@@ -29,12 +29,10 @@ class WalkState(NamedTuple):
     speed_mps: float  # 0 while standing or turning
 
 
-def _turn(start: float, goal: float, rate: float, seconds: float, t: float) -> float:
-    """Heading ``t`` s into a turn from ``start`` towards ``goal`` at ``rate``."""
+def _turn(start: float, goal: float, rate: float, t: float) -> float:
+    """Heading ``t`` s into a turn on the spot from ``start`` towards ``goal`` at ``rate``."""
     delta = math.remainder(goal - start, math.tau)
-    if seconds <= 0.0:
-        return goal
-    turn_s = min(seconds, abs(delta) / rate) if rate > 0 else 0.0
+    turn_s = abs(delta) / rate
     if turn_s <= 0.0 or t >= turn_s:
         return start + delta
     return start + delta * t / turn_s
@@ -69,6 +67,8 @@ class WalkPath:
             raise ValueError(f"speed_mps: expected 0 to 5 m/s, got {self.speed_mps}")
         if self.start_s < 0.0 or self.stand_s < 0.0:
             raise ValueError("start_s, stand_s: expected times >= 0 s")
+        if self.turn_rate_rad_s <= 0.0:
+            raise ValueError(f"turn_rate_rad_s: expected > 0 rad/s, got {self.turn_rate_rad_s}")
         points = list(self.waypoints)
         if self.back_and_forth:
             points += points[-2::-1]
@@ -85,9 +85,12 @@ class WalkPath:
                 following = headings[k + 1]
             else:  # the end: turn round to walk it again, or stay facing on
                 following = headings[0] if self.back_and_forth else headings[k]
+            # it stands long enough to turn towards the next leg at its turn rate
+            turn_s = abs(math.remainder(following - headings[k], math.tau)) / self.turn_rate_rad_s
+            stand_s = max(self.stand_s, turn_s)
             legs.append((t, walk_s, a[0], a[1], b[0] - a[0], b[1] - a[1], headings[k], walked,
-                         self.stand_s, following))  # fmt: skip
-            t += walk_s + self.stand_s
+                         stand_s, following))  # fmt: skip
+            t += walk_s + stand_s
             walked += length
         object.__setattr__(self, "_legs", tuple(legs))
         object.__setattr__(self, "_starts", tuple(leg[0] for leg in legs))
@@ -125,5 +128,5 @@ class WalkPath:
             f = u / walk_s
             return WalkState(x0 + f * dx, y0 + f * dy, heading, base + f * walk_s * self.speed_mps,
                              self.speed_mps)  # fmt: skip
-        turned = _turn(heading, following, self.turn_rate_rad_s, stand_s, u - walk_s)
+        turned = _turn(heading, following, self.turn_rate_rad_s, u - walk_s)
         return WalkState(x0 + dx, y0 + dy, turned, base + math.hypot(dx, dy), 0.0)
