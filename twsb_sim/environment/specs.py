@@ -12,6 +12,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from twsb_sim.house.ceilings import AtticSlope, Staircase
+from twsb_sim.house.extras import WallShelf
+from twsb_sim.house.floor_features import FloorFeature
+from twsb_sim.house.model import Doorway
+from twsb_sim.movers import LightFurniture, SwingingDoor
+
+# where the rows' own checks build a stand-in: a doorway for a door's swing
+_STAND_IN_DOORWAY = Doorway("door_0", ("a", "b"), 0.0, 0.0, True, 0.9, 2.0)
 Frame = Literal["start", "world"]
 
 
@@ -52,6 +60,15 @@ class FloorFeatureSpec(Placement):
     slope_deg: float = 30.0  # deg, bevels of a threshold, slopes of a ramp
     friction: tuple[float, float, float] | None = None  # a rug's sliding, torsional, rolling
 
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.friction is not None and not all(0.0 <= f <= 5.0 for f in self.friction):
+            raise ValueError(
+                f"friction: expected coefficients of 0 to 5, got {list(self.friction)}"
+            )
+        FloorFeature(self.kind, 0.0, 0.0, 0.0, self.height_m, self.length_m, self.width_m,
+                     self.slope_deg)  # fmt: skip
+
 
 @dataclass(frozen=True)
 class CeilingSpec:
@@ -73,6 +90,9 @@ class AtticSlopeSpec:
     knee_height_m: float = 1.2  # m
     pitch_deg: float = 40.0  # deg
 
+    def __post_init__(self) -> None:
+        AtticSlope(self.room, self.side, self.knee_height_m, self.pitch_deg)
+
 
 @dataclass(frozen=True)
 class StaircaseSpec:
@@ -83,6 +103,9 @@ class StaircaseSpec:
     start_m: float = 0.3  # m, its foot along the wall from the wall's west or south end
     width_m: float = 0.9  # m
     rising_east_or_north: bool = True
+
+    def __post_init__(self) -> None:
+        Staircase(self.room, self.side, self.start_m, self.width_m, self.rising_east_or_north)
 
 
 @dataclass(frozen=True)
@@ -95,6 +118,11 @@ class WallShelfSpec:
     width_m: float = 0.9  # m
     depth_m: float = 0.25  # m
     height_m: float = 0.8  # m, its top above the floor
+
+    def __post_init__(self) -> None:
+        for name in ("width_m", "depth_m"):
+            _positive(name, getattr(self, name), 0.05, 5.0, "m")
+        WallShelf(self.room, self.side, self.offset_m, self.width_m, self.depth_m, self.height_m)
 
 
 @dataclass(frozen=True)
@@ -152,6 +180,11 @@ class DoorSpec:
     toggle_times_s: tuple[float, ...] = ()  # s, when it starts to swing to the other state
     swing_s: float = 1.5  # s
 
+    def __post_init__(self) -> None:
+        SwingingDoor("door_leaf_0", _STAND_IN_DOORWAY, self.hinge_at_low_end,
+                     self.opens_positive, self.open_deg, self.start_open, self.toggle_times_s,
+                     self.swing_s)  # fmt: skip
+
 
 @dataclass(frozen=True)
 class LightFurnitureSpec(Placement):
@@ -160,3 +193,7 @@ class LightFurnitureSpec(Placement):
     kind: Literal["box", "stool"] = "box"
     mass_kg: float = 3.0  # kg
     size_m: tuple[float, float, float] = (0.45, 0.35, 0.3)  # m: width, depth, height
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        LightFurniture("pushable_0", self.kind, 0.0, 0.0, 0.0, self.mass_kg, self.size_m)

@@ -42,7 +42,10 @@ def add_envelope_parser(commands: argparse._SubParsersAction) -> None:
     parser.add_argument("--ranges", type=Path, default=None, help="a generator ranges file")
     parser.add_argument("--workers", type=int, default=1, help="processes for --episodes")
     parser.add_argument(
-        "--quick", action="store_true", help="a smoke run: one height, no classes, 2 robots"
+        "--quick",
+        action="store_true",
+        help="a smoke run: the default robot from behind and the left at one height, no "
+        "classes, at most one randomized robot",
     )
     parser.set_defaults(handler=run_envelope)
 
@@ -59,7 +62,12 @@ def run_envelope(args: argparse.Namespace) -> int:
     """Measure and write the JSON file."""
     from twsb_sim.dataset.episode import draw_episode
     from twsb_sim.dataset.randomization import load_randomization
-    from twsb_sim.evaluation.envelope import HEIGHTS_M, RobotUnderTest, measure_envelope
+    from twsb_sim.evaluation.envelope import (
+        DIRECTIONS,
+        HEIGHTS_M,
+        RobotUnderTest,
+        measure_envelope,
+    )
     from twsb_sim.evaluation.generator_stats import generator_statistics
     from twsb_sim.robot_classes import ROBOT_CLASSES
     from twsb_sim.scenario import scenario_from_table
@@ -71,8 +79,11 @@ def run_envelope(args: argparse.Namespace) -> int:
     ranges = load_randomization(args.ranges)
     started = time.perf_counter()
     heights = (0.3,) if args.quick else HEIGHTS_M
+    directions = ("behind", "left") if args.quick else tuple(DIRECTIONS)
     result: dict = {"command": "twsb " + shlex.join(sys.argv[1:])}
-    result["default_robot"] = measure_envelope(RobotUnderTest(), heights, driving=not args.quick)
+    result["default_robot"] = measure_envelope(
+        RobotUnderTest(), heights, directions, driving=not args.quick, tilt=not args.quick
+    )
     classes = {} if args.quick else ROBOT_CLASSES
     result["robot_classes"] = {}
     for name, robot_class in classes.items():
@@ -82,13 +93,12 @@ def run_envelope(args: argparse.Namespace) -> int:
             under_test, (0.3,), ("behind", "front", "left"), driving=False, tilt=False
         )
     robots = []
-    for k in range(2 if args.quick else args.robots):
+    robot_directions = ("behind", "left") if args.quick else ("behind", "front", "left")
+    for k in range(min(args.robots, 1) if args.quick else args.robots):
         draw = draw_episode(args.seed, k, ranges)
         scenario = scenario_from_table(draw.scenario_table, source=f"episode {k}")
         under_test = RobotUnderTest(scenario.robot, scenario.controller, scenario.balance)
-        envelope = measure_envelope(
-            under_test, (0.3,), ("behind", "front", "left"), driving=False, tilt=False
-        )
+        envelope = measure_envelope(under_test, (0.3,), robot_directions, driving=False, tilt=False)
         robots.append({"episode": k, "robot_class": draw.robot_class,
                        "tables": {t: draw.scenario_table.get(t, {})
                                   for t in ("robot", "controller", "balance")},
@@ -98,7 +108,7 @@ def run_envelope(args: argparse.Namespace) -> int:
         "robots": robots,
         "angular_impulse_percentiles_n_m_s": {
             d: {str(q): float(np.percentile([lim[d] for lim in limits], q)) for q in (10, 25, 50)}
-            for d in ("behind", "front", "left")
+            for d in robot_directions
         }
         if robots
         else {},

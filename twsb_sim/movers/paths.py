@@ -3,9 +3,10 @@
 A :class:`WalkPath` starts at its first waypoint and stands there until ``start_s``; then
 it walks from waypoint to waypoint at ``speed_mps``, and at every waypoint it reaches it
 stands for ``stand_s``, turning on the spot towards the next leg at ``turn_rate_rad_s``
-(it stands as long as the turn takes, if that is longer). With ``back_and_forth`` it walks the path back again at the end,
-forever; otherwise it stays at the last waypoint. :meth:`WalkPath.at` is evaluated once
-per LiDAR scan, so it is plain scalar arithmetic over a precomputed timeline.
+(it stands as long as the turn takes, if that is longer). With ``back_and_forth`` it walks
+the path back again at the end, forever; otherwise it stays at the last waypoint.
+:meth:`WalkPath.at` is evaluated once per LiDAR scan, so it is plain scalar arithmetic
+over a precomputed timeline.
 """
 
 from __future__ import annotations
@@ -121,7 +122,7 @@ class WalkPath:
             last = legs[-1]
             return WalkState(last[2] + last[4], last[3] + last[5], last[6], self.cycle_m, 0.0)
         k = max(bisect.bisect_right(self._starts, t) - 1, 0)
-        t0, walk_s, x0, y0, dx, dy, heading, walked0, stand_s, following = legs[k]
+        t0, walk_s, x0, y0, dx, dy, heading, walked0, _, following = legs[k]
         base = laps * self.cycle_m + walked0
         u = t - t0
         if u < walk_s:
