@@ -146,7 +146,7 @@ class ShoveRanges:
     is drawn from the force ranges instead and cut to the caps.
     """
 
-    probability: float = 0.35  # a pause or a drive carries a shove
+    probability: float = 0.45  # a pause, a drive or a turn carries a shove
     sideways_fraction: float = 0.2  # of the shoves, those that push from a side
     longitudinal_force_n: Range | float = (15.0, 70.0)  # N, from behind or from the front
     lateral_force_n: Range | float = (5.0, 25.0)  # N, from the left or the right
