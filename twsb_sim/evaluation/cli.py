@@ -65,6 +65,9 @@ def run_eval(args: argparse.Namespace) -> int:
     """Run the evaluation the arguments ask for and write the report folder."""
     if args.stress:
         return run_stress_eval(args)
+    for flag, value in (("--episodes", args.episodes), ("--conditions", args.conditions)):
+        if value is not None:
+            raise ConfigError(flag, "", "only with --stress")
     from twsb_sim.evaluation.config import EvalConfig
     from twsb_sim.evaluation.experiment import run_evaluation
     from twsb_sim.evaluation.report import write_outputs

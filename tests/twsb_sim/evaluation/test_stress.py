@@ -84,3 +84,5 @@ def test_unknown_condition_and_registration_errors(tmp_path, capsys):
     with pytest.raises(ConfigError, match="no such ranges file"):
         register_condition("fog", tmp_path / "fog.toml")
     assert "fog" not in condition_names()
+    assert main(["eval", "--quick", "--episodes", "2", "--out", str(tmp_path)]) == 2
+    assert "--episodes: only with --stress" in capsys.readouterr().err
