@@ -97,6 +97,7 @@ def build_parser() -> argparse.ArgumentParser:
     of :func:`main` are in place, so that a Ctrl-C during the imports is a clean stop)."""
     from twsb_sim.dataset.cli import add_dataset_commands
     from twsb_sim.evaluation.cli import add_eval_parser
+    from twsb_sim.evaluation.envelope_cli import add_envelope_parser
     from twsb_sim.slam.cli import add_slam_parser
     from twsb_sim.tuning.cli import add_tune_parser
 
@@ -111,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_dataset_commands(commands)  # generate, export-bag
     add_slam_parser(commands)
     add_tune_parser(commands)
+    add_envelope_parser(commands)
     return parser
 
 

@@ -8,6 +8,7 @@ physics step.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -19,9 +20,11 @@ from tqdm import tqdm
 from pvfilter import ScanFilter
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.control.gains import UnstableClosedLoopError
+from twsb_sim.environment import check_rooms, house_extras, movers
 from twsb_sim.frame_filter import FrameFilter, as_frame_filter
-from twsb_sim.house import House, SpawnPose, make_house, random_house
+from twsb_sim.house import House, HouseExtras, SpawnPose, house_with
 from twsb_sim.house.standing import ROBOT_HEIGHT_M, why_cannot_stand
+from twsb_sim.movers import MoverSet
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
 from twsb_sim.simulation import Simulation
@@ -43,9 +46,28 @@ class SimulationDiverged(ConfigError):
         )
 
 
-def build_house(choice: HouseChoice) -> House:
-    """The house a scenario asks for."""
-    return make_house(choice.name) if choice.name is not None else random_house(choice.seed)
+def build_house(choice: HouseChoice, extras: HouseExtras | None = None) -> House:
+    """The house a scenario asks for (with ``extras`` added)."""
+    return house_with(choice.name, choice.seed, extras)
+
+
+def scenario_world(scenario: Scenario) -> tuple[House, MoverSet, tuple[float, float, float]]:
+    """The house (with what the scenario adds to it), its movers, and the robot's start.
+
+    Floor features on the robot's path and movers placed relative to the start pose are
+    placed once the start is known; they do not block, so they leave the spawn poses as
+    they are.
+    """
+    environment, source = scenario.environment, scenario.source
+    height = scenario.robot.lidar_height_m
+    if not environment:
+        house = build_house(scenario.house)
+        return house, MoverSet(), start_pose(scenario.house, house, source, height)
+    check_rooms(environment, build_house(scenario.house), source)
+    fixed = dataclasses.replace(house_extras(environment, (0.0, 0.0, 0.0)), floor_features=())
+    start = start_pose(scenario.house, build_house(scenario.house, fixed), source, height)
+    house = build_house(scenario.house, house_extras(environment, start))
+    return house, movers(environment, house, start), start
 
 
 LIDAR_HEAD_M = 0.05  # m, the scanner's head above its origin
@@ -79,9 +101,9 @@ def start_pose(
 
 
 def simulation_for(scenario: Scenario, seed: int) -> Simulation:
-    """Build the house, robot, controller and LiDAR of a scenario, robot at its start."""
-    house = build_house(scenario.house)
-    start = start_pose(scenario.house, house, scenario.source, scenario.robot.lidar_height_m)
+    """Build the house, robot, controller, LiDAR, sensors and movers of a scenario, robot
+    at its start."""
+    house, mover_set, start = scenario_world(scenario)
     try:
         sim = Simulation(
             house,
@@ -93,6 +115,8 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
             imu=scenario.imu,
             attitude=scenario.attitude,
             odometry=scenario.odometry,
+            movers=mover_set,
+            balance=scenario.balance,
         )
     except UnstableClosedLoopError as error:
         raise ConfigError(scenario.source, "controller", str(error)) from None

@@ -36,7 +36,9 @@ from pathlib import Path
 from typing import Any
 
 from twsb_sim.config_errors import ConfigError, apply_overrides, coerce_value
+from twsb_sim.control.balance import BalanceConfig
 from twsb_sim.control.lqr import LqrConfig
+from twsb_sim.environment import ENVIRONMENT_KEYS, Environment, environment_from_table
 from twsb_sim.house.named import NAMED_HOUSES
 from twsb_sim.lidar import LidarConfig
 from twsb_sim.robot import RobotConfig
@@ -119,6 +121,8 @@ class Scenario:
     description: str = ""
     seed: int = 0  # default seed; the command line's --seed wins
     source: str = "<code>"  # the file it was read from
+    environment: Environment = field(default_factory=Environment)  # floor, ceilings, movers
+    balance: BalanceConfig = field(default_factory=BalanceConfig)  # LQR or PID, stop brake
 
 
 _TOP_LEVEL_SCALARS = {"name": str, "description": str, "duration_s": float, "seed": int}
@@ -130,8 +134,16 @@ _OVERRIDE_TABLES = {
     "imu": ImuConfig,
     "attitude": AttitudeFilterConfig,
     "odometry": OdometryConfig,
+    "balance": BalanceConfig,
 }
-_KNOWN_KEYS = {*_TOP_LEVEL_SCALARS, *_OVERRIDE_TABLES, "house", "commands", "shoves"}
+_KNOWN_KEYS = {
+    *_TOP_LEVEL_SCALARS,
+    *_OVERRIDE_TABLES,
+    "house",
+    "commands",
+    "shoves",
+    *ENVIRONMENT_KEYS,
+}
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -197,6 +209,7 @@ def scenario_from_table(
         commands=_commands(table.get("commands", []), duration_s, source),
         shoves=_shoves(table.get("shoves", []), duration_s, source),
         source=str(source),
+        environment=environment_from_table(table, source),
         **overrides,
     )
 

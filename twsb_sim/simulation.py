@@ -18,10 +18,13 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
-from twsb_sim.control.lqr import LqrConfig, LqrController
+from twsb_sim.control.balance import BalanceConfig, make_balance_controller
+from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
+from twsb_sim.movers import MoverSet
 from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
 from twsb_sim.sensors import (
     AttitudeFilterConfig,
@@ -47,10 +50,12 @@ class Shove:
     point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
 
 
-def build_model(house: House, robot: RobotConfig) -> mujoco.MjModel:
-    """Compile the robot into the house."""
+def build_model(house: House, robot: RobotConfig, movers: MoverSet | None = None) -> mujoco.MjModel:
+    """Compile the robot into the house, with the movers (people, doors, ...) if any."""
     spec = load_robot_spec(robot)
     add_house_to_spec(spec, house)
+    if movers:
+        movers.add_to_spec(spec)
     return spec.compile()
 
 
@@ -64,6 +69,9 @@ class Simulation:
         seed: seeds the sensors' errors (``SeedSequence`` children: the LiDAR's, then the
             IMU's); the physics itself is deterministic.
         imu, attitude, odometry: the IMU, the robot's attitude filter, its wheel odometry.
+        movers: people, pets, doors and light furniture in the house (none by default);
+            the kinematic ones are posed whenever the LiDAR casts.
+        balance: the balance controller (the LQR by default) and its stop brake.
     """
 
     def __init__(
@@ -77,17 +85,22 @@ class Simulation:
         imu: ImuConfig = ImuConfig(),  # noqa: B008
         attitude: AttitudeFilterConfig = AttitudeFilterConfig(),  # noqa: B008
         odometry: OdometryConfig = OdometryConfig(),  # noqa: B008
+        movers: MoverSet | None = None,
+        balance: BalanceConfig | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
-        self.model = build_model(house, robot)
+        self.movers = movers if movers is not None else MoverSet()
+        self.model = build_model(house, robot, self.movers)
+        self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
         self.sensors = SensorSuite(
             self.model, self.handles, imu, attitude, odometry, self.lidar.scan_time
         )
-        self.controller = LqrController(self.model, robot, controller)
+        self.level_view = LevelView(self.model, self.lidar)  # labels on ramps and slopes
+        self.controller = make_balance_controller(self.model, robot, controller, balance)
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
         self._seed = seed
@@ -108,6 +121,7 @@ class Simulation:
             self._seed = seed
         x, y, yaw = (pose.x_m, pose.y_m, pose.yaw_rad) if isinstance(pose, SpawnPose) else pose
         mujoco.mj_resetData(self.model, self.data)
+        self.movers.pose(self.data, 0.0)
         set_pose(self.model, self.data, x, y, yaw)
         self.controller.reset()
         lidar_seed, sensors_seed = np.random.SeedSequence(self._seed).spawn(2)
@@ -250,6 +264,7 @@ class Simulation:
         """
         # after mj_step, derived quantities (site poses, sensors) lag qpos by one step:
         # recompute them so the scan, the IMU and the truth describe the same instant
+        self.movers.pose(self.data, self.time_s)
         mujoco.mj_forward(self.model, self.data)
         now = self.time_s
         lidar = self.lidar
@@ -270,6 +285,7 @@ class Simulation:
             reading = lidar.sweep(self.data, self.noise_rng, track, stamp)
         else:
             reading = lidar.scan(self.data, self.noise_rng)
+        labels = self.level_view.relabel(self.data, reading)
         scan = Scan(
             ranges=reading.ranges,
             angle_min=self.lidar.angle_min,
@@ -283,7 +299,7 @@ class Simulation:
         return Frame(
             index=index,
             scan=scan,
-            labels=reading.labels,
+            labels=labels,
             hit_points_world=reading.hit_points_world,
             truth=truth,
             phase=phase,

@@ -5,9 +5,10 @@ Episode ``k`` of a data set with seed ``S`` draws everything from
 content depends on ``(S, k)`` and the ranges only: not on how many workers run, nor
 in which order episodes finish. Five independent streams are spawned from it: the
 house (layout and start pose), the robot (its parameters), the motion (commands and
-shoves), the run (the sensors' noise) and the sensors' calibration (mount, error
-levels), so narrowing, say, the motion ranges leaves the houses and robots of a data set
-as they were.
+shoves), the run (the sensors' noise), the sensors' calibration (mount, error levels)
+and the environment (floor features on the lane, a low ceiling, people, pets, doors,
+light furniture, and the robot class), so narrowing, say, the motion ranges leaves the
+houses and robots of a data set as they were.
 
 An episode whose robot falls is **kept**, cut at the fall and flagged
 (``fell`` and ``end_reason`` in its summary): the scans up to a fall are real data of a
@@ -25,6 +26,7 @@ import mujoco
 import numpy as np
 import pyarrow as pa
 
+from twsb_sim.dataset import environment_draw
 from twsb_sim.dataset.motion import Lane, plan_motion
 from twsb_sim.dataset.randomization import Randomization, Range, SensorRanges
 from twsb_sim.dataset.recorder import EpisodeRecorder
@@ -55,6 +57,7 @@ class EpisodeDraw:
     spawn: int  # index of the start pose among the house's spawn poses
     reversed_start: bool  # the robot starts facing back along the lane
     lane: Lane
+    robot_class: str = "lqr"  # a name of twsb_sim.robot_classes.ROBOT_CLASSES
 
 
 def _uniform(rng: np.random.Generator, bounds: Range, digits: int = 4) -> float:
@@ -74,9 +77,8 @@ def planned_duration_s(seed: int, episode: int, ranges: Randomization) -> float:
 
 def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
     """Draw house, start, robot and timeline of episode ``episode`` (no simulation)."""
-    house_seq, robot_seq, motion_seq, run_seq, sensor_seq = episode_seed_sequence(
-        seed, episode
-    ).spawn(5)
+    streams = episode_seed_sequence(seed, episode).spawn(6)
+    house_seq, robot_seq, motion_seq, run_seq, sensor_seq, environment_seq = streams
     house_rng = np.random.default_rng(house_seq)
     if house_rng.random() < ranges.house.named_fraction:
         name = sorted(NAMED_HOUSES)[int(house_rng.integers(len(NAMED_HOUSES)))]
@@ -129,7 +131,33 @@ def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
         "controller": {"aggressiveness": aggressiveness},
         **sensor_tables,
     }
-    return EpisodeDraw(episode, table, house, spawn, reversed_start, lane)
+    start = (pose.x_m, pose.y_m, yaw)
+    class_name = _draw_environment(environment_seq, table, house, start, lane, ranges)
+    return EpisodeDraw(episode, table, house, spawn, reversed_start, lane, class_name)
+
+
+def _draw_environment(
+    sequence: np.random.SeedSequence,
+    table: dict[str, Any],
+    house: House,
+    start: tuple[float, float, float],
+    lane: Lane,
+    ranges: Randomization,
+) -> str:
+    """Add the environment's tables and the robot class to a scenario table; the class."""
+    rng = np.random.default_rng(sequence)
+    name, class_tables = environment_draw.robot_class(rng, ranges.robot_classes.weights())
+    for key, values in class_tables.items():
+        table[key] = {**table.get(key, {}), **values}
+    ceiling = environment_draw.ceiling(rng, ranges.ceiling)
+    if ceiling is not None:
+        table["ceiling"] = ceiling
+    features = environment_draw.floor_features(rng, lane, ranges.floor)
+    if features:
+        table["floor_features"] = features
+    movers = environment_draw.movers(rng, house, start, lane, ranges.movers, table["duration_s"])
+    table.update({key: rows for key, rows in movers.items() if rows})
+    return name
 
 
 def _draw_sensors(rng: np.random.Generator, r: SensorRanges) -> dict[str, dict[str, Any]]:
@@ -225,6 +253,7 @@ def _summary(
         "house": draw.house.name,
         "spawn": draw.spawn,
         "reversed_start": draw.reversed_start,
+        "robot_class": draw.robot_class,
         "lane_m": [round(-draw.lane.behind_m, 3), round(draw.lane.ahead_m, 3)],
         "simulated_s": round(float(table["stamp_s"][-1].as_py()) + revolution_s, 3) if n else 0.0,
         "beams_per_label": {

@@ -67,7 +67,10 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
     collect = _Collect()
     run_scenario(scenario, seed=scenario.seed, sinks=[collect])
     frames = collect.frames
-    finite = np.array([np.isfinite(f.scan.ranges) for f in frames])
+    # scored beams: a finite range, not on a moving object (neither hit nor false alarm)
+    finite = np.array(
+        [np.isfinite(f.scan.ranges) & (f.labels != BeamLabel.DYNAMIC) for f in frames]
+    )
     return TuningRun(
         name=f"{seed}/{episode}",
         house=draw.house.name,

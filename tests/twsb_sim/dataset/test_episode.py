@@ -14,6 +14,7 @@ from twsb_sim.dataset.randomization import randomization_from_table
 from twsb_sim.dataset.recorder import EpisodeRecorder
 from twsb_sim.dataset.schema import SCHEMA
 from twsb_sim.labels import BeamLabel
+from twsb_sim.robot_classes import ROBOT_CLASSES
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 
@@ -74,7 +75,17 @@ def test_a_fall_is_kept_cut_and_flagged(shoves, reason):
     table = {
         **SHORT,
         "episode": {"duration_s": 6.0},
-        "shoves": {"probability": 1.0, "duration_s": 0.3, "height_m": 0.45, **shoves},
+        # impulse_fraction 0: the force comes from the force range (cut at the caps); no
+        # push mid-turn (its cap blends in the sideways one); the default robot only
+        "shoves": {
+            "probability": 1.0,
+            "duration_s": 0.3,
+            "height_m": 0.45,
+            "impulse_fraction": 0.0,
+            "turning_probability": 0.0,
+            **shoves,
+        },
+        "robot_classes": {name: float(name == "lqr") for name in ROBOT_CLASSES},
     }
     ranges = randomization_from_table(table)
     for episode in range(20):  # the first episode whose plan has a shove
