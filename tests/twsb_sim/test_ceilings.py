@@ -17,7 +17,7 @@ from twsb_sim.labels import BeamLabel
 from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
 
-NOISELESS = LidarConfig(range_noise_std_m=0.0, useful_fov_deg=360.0)
+NOISELESS = LidarConfig.ideal(sweep="instant", useful_fov_deg=360.0)
 LONG_ROOM = Room("hall", -20.0, -3.0, 20.0, 3.0)  # walls 20 m away along x
 
 

@@ -49,7 +49,7 @@ def test_classes_features_ceilings_and_people_come_at_their_rates():
 def test_a_braking_class_gets_its_balance_table_and_the_rest_keeps_the_robot_draw():
     braking = next(d for d in DRAWS if d.robot_class.endswith("_brake"))
     balance = braking.scenario_table["balance"]
-    assert balance["brake_torque_nm"] > 0 and balance["kind"] in ("lqr", "pid")
+    assert balance["brake_torque_nm"] > 0 and balance.get("kind", "lqr") in ("lqr", "pid")
     soft = next(d for d in DRAWS if d.robot_class == "soft_lqr")
     assert soft.scenario_table["controller"] == {"aggressiveness": 0.05, "torque_weight": 100.0}
     assert "body_mass_kg" in soft.scenario_table["robot"]
