@@ -1,42 +1,46 @@
 """The ``twsb`` command line.
 
 ``twsb run SCENARIO`` simulates a scenario with the filter in the loop, shows a progress
-bar, prints a summary and (with ``--out``) writes the frames. User mistakes (a bad
-scenario file, a wrong flag value) print one line naming the problem and exit with
-status 2, never a traceback.
+bar, prints a summary and (with ``--out``) writes the frames.
+
+Exit status, the same for every command (``docs/robustness.md``): 0 done; 2 a user
+mistake (a bad scenario file, a wrong flag value, an output path that cannot be written),
+printed as one line naming the file or flag and the key, never a traceback; 3 the robot
+fell (``twsb run``); 130 interrupted by Ctrl-C (SIGINT) or SIGTERM, after what was made
+is kept or cleaned so that the same command can be run again; 141 the reader of the
+output went away (``twsb run ... | head -1``).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
-from twsb_sim.dataset.cli import add_dataset_commands
-from twsb_sim.evaluation.cli import add_eval_parser
-from twsb_sim.filter_args import (
-    add_filter_args,
-    compared_filters,
-    filter_from_args,
-    operating_threshold,
-)
-from twsb_sim.rerun_log.recording import add_recording_args
+from twsb_sim.output_paths import output_folder
 from twsb_sim.scenario_files import resolve_scenario
-from twsb_sim.slam.cli import add_slam_parser
-from twsb_sim.tuning.cli import add_tune_parser
 
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
 EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a Ctrl-C
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, as a shell reports `yes | head -1`
 
 
 def _add_run_parser(commands: argparse._SubParsersAction) -> None:
+    from twsb_sim.filter_args import add_filter_args
+    from twsb_sim.rerun_log.recording import add_recording_args  # imports rerun: slow
+
     run = commands.add_parser(
         "run",
         help="simulate a scenario with the filter in the loop",
-        description="Simulate a scenario, run the Pitch Variation Filter on every scan, "
-        "print a summary, and optionally write the frames.",
+        description="Simulate a scenario, run a pitch-variation filter on every scan (the "
+        "improved filter unless --filter names another), print a summary with the paper's "
+        "filter on the same frames, and optionally write the frames and a Rerun recording.",
     )
     run.add_argument(
         "scenario", help="a scenario file, or the name of a shipped one (e.g. hard_stop)"
@@ -53,6 +57,7 @@ def _add_run_parser(commands: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from twsb_sim.comparison import FilterComparison
+    from twsb_sim.filter_args import compared_filters, filter_from_args, operating_threshold
     from twsb_sim.frame_writer import FrameWriter
     from twsb_sim.rerun_log.recording import rerun_sink, wait_while_serving
     from twsb_sim.runner import run_scenario
@@ -62,6 +67,8 @@ def _run(args: argparse.Namespace) -> int:
     scenario = load_scenario(path)
     if args.seed is not None and args.seed < 0:
         raise ConfigError("--seed", "", f"expected an integer >= 0, got {args.seed}")
+    if args.out is not None:
+        output_folder(args.out)
     sinks = []
     if args.out is not None:
         sinks.append(FrameWriter(args.out, scenario_file=path))
@@ -86,6 +93,14 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``twsb`` parser with every command (imported here, once the signal handlers
+    of :func:`main` are in place, so that a Ctrl-C during the imports is a clean stop)."""
+    from twsb_sim.dataset.cli import add_dataset_commands
+    from twsb_sim.evaluation.cli import add_eval_parser
+    from twsb_sim.evaluation.envelope_cli import add_envelope_parser
+    from twsb_sim.slam.cli import add_slam_parser
+    from twsb_sim.tuning.cli import add_tune_parser
+
     parser = argparse.ArgumentParser(
         prog="twsb",
         description="A two-wheeled self-balancing robot with a labeled 2D LiDAR, and the "
@@ -97,20 +112,47 @@ def build_parser() -> argparse.ArgumentParser:
     add_dataset_commands(commands)  # generate, export-bag
     add_slam_parser(commands)
     add_tune_parser(commands)
+    add_envelope_parser(commands)
     return parser
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into the same clean stop as a Ctrl-C."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``twsb`` command."""
-    args = build_parser().parse_args(argv)
+    """Entry point of the ``twsb`` command: runs one command, returns its exit status."""
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
     try:
-        return args.handler(args)
+        args = build_parser().parse_args(argv)
+        status = args.handler(args)
+        sys.stdout.flush()  # a closed pipe shows here, not in Python's exit-time flush
+        return status
     except ConfigError as error:
         print(f"twsb: error: {error}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        print("twsb: interrupted", file=sys.stderr)
-        return 130
+    except (FileExistsError, IsADirectoryError, NotADirectoryError, PermissionError) as error:
+        # a path the user gave that cannot be written (the checks before the work catch
+        # most; these are the ones only the file system knows)
+        print(f"twsb: error: {error.filename}: {error.strerror}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt as error:
+        what = "terminated (SIGTERM)" if isinstance(error, Terminated) else "interrupted"
+        print(f"twsb: {what}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader left (| head): say nothing more, and keep Python's exit-time flush
+        # of stdout from failing again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pvfilter import Scan
+from twsb_sim.sensors.readings import Attitude, SensorReadings
 
 
 def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
@@ -23,9 +24,11 @@ def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False, kw_only=True)
 class RobotTruth:
-    """The robot's true state when the scan was taken (world frame: REP-103, z up).
+    """The robot's true state at the scan's stamp (world frame: REP-103, z up).
 
-    The base frame's origin is the wheel-axle centre. Positive pitch is nose down.
+    The base frame's origin is the wheel-axle centre. Positive pitch is nose down. The
+    ``imu_*`` fields are the exact readings (no sensor errors); what the robot's IMU and
+    estimator reported is in :attr:`Frame.sensors`.
     """
 
     stamp_s: float  # s, simulated time
@@ -69,6 +72,10 @@ class Frame:
         phase: the scenario phase in force ("hard stop", ...), "" when none.
         geom_ids: ``int32[n]``, the MuJoCo geom each beam hit, -1 where none (ids of the
             run's compiled model; ``mujoco.mj_id2name`` names them); None when unknown.
+        sensors: what the robot's IMU, attitude filter and wheel odometry reported (see
+            :class:`~twsb_sim.sensors.SensorReadings`); None for frames made without them.
+
+    Beam ``i`` was measured at ``scan.stamp + i * scan.time_increment``.
     """
 
     index: int
@@ -78,6 +85,7 @@ class Frame:
     truth: RobotTruth
     phase: str = ""
     geom_ids: np.ndarray | None = None
+    sensors: SensorReadings | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "labels", _frozen(self.labels, np.uint8))
@@ -92,6 +100,46 @@ class Frame:
     @property
     def stamp_s(self) -> float:
         return self.scan.stamp
+
+    @property
+    def received_s(self) -> float:
+        """When the scan was complete and handed out, s: the end of its revolution
+        (``stamp + scan_time`` for a counter-clockwise scanner, whose beam 0 comes first;
+        the stamp itself for a clockwise or an instant one)."""
+        return self.scan.stamp + max(0.0, len(self.scan) * self.scan.time_increment)
+
+    @property
+    def beam_times_s(self) -> np.ndarray:
+        """When each beam was measured, s: ``stamp + i * time_increment``."""
+        return self.scan.stamp + np.arange(len(self.scan)) * self.scan.time_increment
+
+    @property
+    def attitude_estimate(self) -> Attitude:
+        """Pitch and roll (rad; + nose down, + left side up) as the robot's own attitude
+        filter had them at the scan's stamp, from its noisy IMU, lag included: what an
+        IMU-using filter receives (``method.process(frame.scan, *frame.attitude_estimate)``).
+
+        Raises:
+            ValueError: the frame was made without the sensor models.
+        """
+        return self._require_sensors("attitude_estimate").attitude
+
+    @property
+    def lidar_pose_in_odom(self) -> np.ndarray:
+        """The LiDAR's pose in the ``odom`` frame at the stamp from wheel odometry:
+        ``(x m, y m, yaw rad)``, the filters' odometry input.
+
+        Raises:
+            ValueError: the frame was made without the sensor models.
+        """
+        return self._require_sensors("lidar_pose_in_odom").pose_lidar_in_odom
+
+    def _require_sensors(self, what: str) -> SensorReadings:
+        if self.sensors is None:
+            raise ValueError(
+                f"{what}: this frame carries no sensor readings (made without the sensor models)"
+            )
+        return self.sensors
 
 
 def truth_arrays(truths: list[RobotTruth]) -> dict[str, np.ndarray]:

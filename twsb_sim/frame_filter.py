@@ -25,11 +25,14 @@ class FrameFilter:
         label: the name reports show.
         scan_filter: the filter.
         inputs: the robot inputs it is given (:data:`pvfilter.ROBOT_INPUTS` names).
+        truth_inputs: give them noise-free, from the truth, instead of from the robot's
+            sensors (:func:`twsb_sim.robot_inputs.robot_inputs`).
     """
 
     label: str
     scan_filter: ScanFilter
     inputs: tuple[str, ...] = ()
+    truth_inputs: bool = False
 
     def reset(self) -> None:
         """Forget the history (a new sequence starts)."""
@@ -37,7 +40,8 @@ class FrameFilter:
 
     def process(self, frame: Frame) -> FilterResult:
         """Filter the frame's scan, with the frame's robot inputs."""
-        return self.scan_filter.process(frame.scan, **robot_inputs(frame, self.inputs))
+        inputs = robot_inputs(frame, self.inputs, self.truth_inputs)
+        return self.scan_filter.process(frame.scan, **inputs)
 
 
 def as_frame_filter(scan_filter: ScanFilter | FrameFilter) -> FrameFilter:
@@ -53,6 +57,7 @@ def frame_filter(
     params: Any = None,
     geometry: dict[str, float] | None = None,
     inputs: tuple[str, ...] | None = None,
+    truth_inputs: bool = False,
     **fields: Any,
 ) -> FrameFilter:
     """A registered filter, ready for frames.
@@ -63,8 +68,10 @@ def frame_filter(
         params: its parameters (defaults when None).
         geometry: the robot's ``lidar_height_m`` and ``axle_height_m``, m.
         inputs: the robot inputs it is given; by default those it needs.
+        truth_inputs: give them noise-free (see :class:`FrameFilter`).
         **fields: parameter values that replace those of ``params``.
     """
     entry = filter_entry(name)
     scan_filter = entry.make(params, robot_geometry=geometry, **fields)
-    return FrameFilter(label, scan_filter, entry.needs if inputs is None else inputs)
+    inputs = entry.needs if inputs is None else inputs
+    return FrameFilter(label, scan_filter, inputs, truth_inputs)

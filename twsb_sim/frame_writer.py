@@ -33,8 +33,15 @@ FRAME_ARRAYS = {
     "hit_points_world": "float32[K, n, 3], m, noise-free hit points, NaN where no return",
     "removed": "bool[K, n], beams the filter in the loop removed (only when a filter ran)",
     "truth_<field>": "one array per RobotTruth field, e.g. truth_pitch_rad float64[K]",
-    "angle_min, angle_increment, range_min, range_max, time_increment, scan_time": "scalars",
+    "sensor_<field>": "the robot's sensors at each stamp: sensor_attitude_rpy_rad [K, 3], "
+    "sensor_pose_base_in_odom [K, 3], sensor_pose_lidar_in_odom [K, 3], sensor_twist [K, 2]",
+    "imu_samples": "float64[N, 10]: arrival s, gyro xyz rad/s, accel xyz m/s², estimate rpy rad",
+    "odometry_samples": "float64[M, 6]: stamp s, x m, y m, yaw rad (odom), v m/s, w rad/s",
+    "imu_samples_per_frame, odometry_samples_per_frame": "int64[K]: how many arrived per frame",
+    "angle_min, angle_increment, range_min, range_max, time_increment, scan_time": "scalars; "
+    "beam i of a scan was measured at stamps + i * time_increment",
 }
+_SENSOR_FIELDS = ("attitude_rpy_rad", "pose_base_in_odom", "pose_lidar_in_odom", "twist")
 
 
 def _atomic_write(path: Path, write: Any) -> None:
@@ -91,6 +98,18 @@ class FrameWriter:
             arrays["removed"] = np.stack(self._removed)
         for name, values in truth_arrays([f.truth for f in self._frames]).items():
             arrays[f"truth_{name}"] = values
+        with_sensors = [f.sensors for f in self._frames if f.sensors is not None]
+        if len(with_sensors) == len(self._frames):
+            for name in _SENSOR_FIELDS:
+                arrays[f"sensor_{name}"] = np.stack([getattr(r, name) for r in with_sensors])
+            imu = [np.column_stack((r.imu.stamps_s, r.imu.gyro_rad_s, r.imu.accel_mps2,
+                                    r.imu.rpy_rad)) for r in with_sensors]  # fmt: skip
+            odom = [np.column_stack((r.odometry.stamps_s, r.odometry.pose_odom,
+                                     r.odometry.twist)) for r in with_sensors]  # fmt: skip
+            arrays["imu_samples"] = np.vstack(imu)
+            arrays["imu_samples_per_frame"] = np.array([len(b) for b in imu])
+            arrays["odometry_samples"] = np.vstack(odom)
+            arrays["odometry_samples_per_frame"] = np.array([len(b) for b in odom])
         return arrays
 
 

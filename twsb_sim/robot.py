@@ -29,6 +29,8 @@ WHEEL_JOINTS = ("left_wheel", "right_wheel")
 WHEEL_GEOMS = ("left_wheel", "right_wheel")
 WHEEL_MOTORS = ("left_wheel_motor", "right_wheel_motor")
 IMU_SENSORS = ("imu_gyro", "imu_accel", "imu_quat")
+LIDAR_POSE_SENSORS = ("lidar_pos", "lidar_quat")
+ENCODER_SENSORS = ("left_wheel_angle", "right_wheel_angle")
 HOME_KEY = "home"
 
 
@@ -43,7 +45,9 @@ def _check_range(name: str, value: float, low: float, high: float) -> None:
 class RobotConfig:
     """Physical parameters applied on top of ``models/twsb.xml``.
 
-    The defaults reproduce the MJCF file unchanged.
+    The defaults reproduce the MJCF file unchanged. The LiDAR mount is a little off the
+    axle centre and its scan plane a little off level, as on a real robot; zero offsets
+    and tilts give the ideal mount.
     """
 
     lidar_height_m: float = 0.25  # m, scanner origin above the floor when upright
@@ -52,6 +56,10 @@ class RobotConfig:
     wheel_radius_m: float = 0.08  # m
     wheel_torque_limit_nm: float = 3.0  # N·m, per wheel motor
     wheel_friction: float = 1.0  # sliding friction coefficient of the tyres on the floor
+    lidar_offset_x_m: float = 0.03  # m, LiDAR origin ahead of the axle centre
+    lidar_offset_y_m: float = 0.02  # m, LiDAR origin left of the centre line
+    lidar_tilt_pitch_deg: float = 1.0  # deg, scan plane tilt on the robot, + = nose down
+    lidar_tilt_roll_deg: float = 0.5  # deg, scan plane tilt on the robot, + = left side up
 
     def __post_init__(self) -> None:
         _check_range("wheel_radius_m", self.wheel_radius_m, 0.03, 0.2)
@@ -60,6 +68,10 @@ class RobotConfig:
         _check_range("com_height_offset_m", self.com_height_offset_m, -0.2, 0.3)
         _check_range("wheel_torque_limit_nm", self.wheel_torque_limit_nm, 0.1, 50.0)
         _check_range("wheel_friction", self.wheel_friction, 0.05, 3.0)
+        _check_range("lidar_offset_x_m", self.lidar_offset_x_m, -0.15, 0.15)
+        _check_range("lidar_offset_y_m", self.lidar_offset_y_m, -0.15, 0.15)
+        _check_range("lidar_tilt_pitch_deg", self.lidar_tilt_pitch_deg, -10.0, 10.0)
+        _check_range("lidar_tilt_roll_deg", self.lidar_tilt_roll_deg, -10.0, 10.0)
 
 
 def load_robot_spec(config: RobotConfig = RobotConfig()) -> mujoco.MjSpec:
@@ -87,12 +99,26 @@ def load_robot_spec(config: RobotConfig = RobotConfig()) -> mujoco.MjSpec:
         limit = config.wheel_torque_limit_nm
         spec.actuator(name).ctrlrange = [-limit, limit]
     mount = spec.body(LIDAR_MOUNT_BODY)
-    mount.pos = [mount.pos[0], mount.pos[1], config.lidar_height_m - radius]
+    mount.pos = [config.lidar_offset_x_m, config.lidar_offset_y_m, config.lidar_height_m - radius]
+    mount.quat = mount_quat(config.lidar_tilt_pitch_deg, config.lidar_tilt_roll_deg)
     home = spec.key(HOME_KEY)
     qpos = list(home.qpos)
     qpos[2] = radius
     home.qpos = qpos
     return spec
+
+
+def mount_quat(pitch_deg: float, roll_deg: float) -> list[float]:
+    """The LiDAR mount's orientation on the body, (w, x, y, z): pitch about y (+ = nose
+    down), then roll about x (+ = left side up), the Z-Y-X order of the robot's angles."""
+    half_pitch, half_roll = math.radians(pitch_deg) / 2, math.radians(roll_deg) / 2
+    cp, sp, cr, sr = (
+        math.cos(half_pitch),
+        math.sin(half_pitch),
+        math.cos(half_roll),
+        math.sin(half_roll),
+    )
+    return [cp * cr, cp * sr, sp * cr, -sp * sr]
 
 
 class BalanceState(NamedTuple):

@@ -1,9 +1,13 @@
 """The robot inputs of a simulated frame, as a filter receives them (:mod:`pvfilter.contract`).
 
-What a real robot would hand its filter: the attitude from its IMU (pitch positive nose
-down, roll positive left side up) and the LiDAR's pose in the odom frame. Today the IMU
-attitude is the simulated IMU's orientation and the pose is the sensor's true pose (the
-world frame serves as odom): both noise-free.
+What a real robot would hand its filter: the attitude its estimator computes from a noisy
+IMU (pitch positive nose down, roll positive left side up, lag included) and the LiDAR's
+pose in the odom frame from wheel odometry (slip included): ``frame.attitude_estimate``
+and ``frame.lidar_pose_in_odom`` (:mod:`twsb_sim.sensors`). With ``truth=True`` the
+filter gets the noise-free values instead: the IMU body's true attitude and the sensor's
+true pose (the world serving as odom), as the paper fed its DATMO baseline SLAM poses,
+and to measure what the realistic inputs cost. Frames made without the sensor models
+(synthetic test frames) carry only the truth, and give it.
 """
 
 from __future__ import annotations
@@ -36,18 +40,26 @@ def imu_pitch_roll(imu_quat: np.ndarray) -> tuple[float, float]:
     return pitch, roll
 
 
-def robot_inputs(frame: Frame, names: Iterable[str]) -> dict[str, Any]:
+def robot_inputs(frame: Frame, names: Iterable[str], truth: bool = False) -> dict[str, Any]:
     """The robot inputs ``names`` (of :data:`pvfilter.ROBOT_INPUTS`) for ``frame``'s scan.
+
+    Args:
+        frame: the frame.
+        names: the inputs wanted.
+        truth: give the noise-free values instead of the robot's sensors' (see the module
+            docstring).
 
     Raises:
         ValueError: a name that is not a robot input.
     """
     inputs: dict[str, Any] = {}
+    sensors = frame.sensors is not None and not truth
     for name in names:
         if name in ("pitch_rad", "roll_rad"):
-            inputs["pitch_rad"], inputs["roll_rad"] = imu_pitch_roll(frame.truth.imu_quat)
+            attitude = frame.attitude_estimate if sensors else imu_pitch_roll(frame.truth.imu_quat)
+            inputs["pitch_rad"], inputs["roll_rad"] = (float(a) for a in attitude)
         elif name == "pose_sensor_in_odom":
-            inputs[name] = sensor_pose_2d(frame.truth)
+            inputs[name] = frame.lidar_pose_in_odom if sensors else sensor_pose_2d(frame.truth)
         else:
             raise ValueError(f"robot input: unknown {name!r}")
     return inputs

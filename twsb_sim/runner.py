@@ -8,6 +8,7 @@ physics step.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -18,8 +19,12 @@ from tqdm import tqdm
 
 from pvfilter import ScanFilter
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.control.gains import UnstableClosedLoopError
+from twsb_sim.environment import check_rooms, house_extras, movers
 from twsb_sim.frame_filter import FrameFilter, as_frame_filter
-from twsb_sim.house import House, SpawnPose, make_house, random_house
+from twsb_sim.house import House, HouseExtras, SpawnPose, house_with
+from twsb_sim.house.standing import ROBOT_HEIGHT_M, why_cannot_stand
+from twsb_sim.movers import MoverSet
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
 from twsb_sim.simulation import Simulation
@@ -28,15 +33,62 @@ from twsb_sim.summary import RunSummary
 from twsb_sim.timeline import heading_force_to_world, phase_at, sample_commands
 
 
-def build_house(choice: HouseChoice) -> House:
-    """The house a scenario asks for."""
-    return make_house(choice.name) if choice.name is not None else random_house(choice.seed)
+class SimulationDiverged(ConfigError):
+    """The physics blew up (MuJoCo reset the state): the scenario asks for more than the
+    simulation can take. The frames before it are kept; none after it is made."""
+
+    def __init__(self, source: str, reason: str) -> None:
+        super().__init__(
+            source,
+            "",
+            f"the simulation {reason}; a shove, a command or a robot value "
+            "of this scenario is beyond what the physics can take",
+        )
 
 
-def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, float, float]:
-    """The robot's start (x m, y m, yaw rad) from the scenario's house table."""
+def build_house(choice: HouseChoice, extras: HouseExtras | None = None) -> House:
+    """The house a scenario asks for (with ``extras`` added)."""
+    return house_with(choice.name, choice.seed, extras)
+
+
+def scenario_world(scenario: Scenario) -> tuple[House, MoverSet, tuple[float, float, float]]:
+    """The house (with what the scenario adds to it), its movers, and the robot's start.
+
+    Floor features on the robot's path and movers placed relative to the start pose are
+    placed once the start is known; they do not block, so they leave the spawn poses as
+    they are.
+    """
+    environment, source = scenario.environment, scenario.source
+    height = scenario.robot.lidar_height_m
+    if not environment:
+        house = build_house(scenario.house)
+        return house, MoverSet(), start_pose(scenario.house, house, source, height)
+    check_rooms(environment, build_house(scenario.house), source)
+    fixed = dataclasses.replace(house_extras(environment, (0.0, 0.0, 0.0)), floor_features=())
+    start = start_pose(scenario.house, build_house(scenario.house, fixed), source, height)
+    house = build_house(scenario.house, house_extras(environment, start))
+    return house, movers(environment, house, start), start
+
+
+LIDAR_HEAD_M = 0.05  # m, the scanner's head above its origin
+
+
+def start_pose(
+    choice: HouseChoice, house: House, source: str, lidar_height_m: float = 0.25
+) -> tuple[float, float, float]:
+    """The robot's start (x m, y m, yaw rad) from the scenario's house table.
+
+    Raises:
+        ConfigError: a spawn index the house does not have, or a ``start`` where the
+            robot cannot stand (outside the house, in a wall or a piece of furniture).
+    """
     if choice.start is not None:
         x, y, yaw_deg = choice.start
+        reason = why_cannot_stand(house, x, y, max(ROBOT_HEIGHT_M, lidar_height_m + LIDAR_HEAD_M))
+        if reason is not None:
+            raise ConfigError(
+                source, "house.start", f"no place for the robot at ({x:g}, {y:g}): {reason}"
+            )
         return x, y, math.radians(yaw_deg)
     if choice.spawn >= len(house.spawn_poses):
         raise ConfigError(
@@ -49,17 +101,26 @@ def start_pose(choice: HouseChoice, house: House, source: str) -> tuple[float, f
 
 
 def simulation_for(scenario: Scenario, seed: int) -> Simulation:
-    """Build the house, robot, controller and LiDAR of a scenario, robot at its start."""
-    house = build_house(scenario.house)
-    sim = Simulation(
-        house,
-        robot=scenario.robot,
-        lidar=scenario.lidar,
-        controller=scenario.controller,
-        fall_pitch_deg=scenario.simulation.fall_pitch_deg,
-        seed=seed,
-    )
-    sim.reset(start_pose(scenario.house, house, scenario.source), seed)
+    """Build the house, robot, controller, LiDAR, sensors and movers of a scenario, robot
+    at its start."""
+    house, mover_set, start = scenario_world(scenario)
+    try:
+        sim = Simulation(
+            house,
+            robot=scenario.robot,
+            lidar=scenario.lidar,
+            controller=scenario.controller,
+            fall_pitch_deg=scenario.simulation.fall_pitch_deg,
+            seed=seed,
+            imu=scenario.imu,
+            attitude=scenario.attitude,
+            odometry=scenario.odometry,
+            movers=mover_set,
+            balance=scenario.balance,
+        )
+    except UnstableClosedLoopError as error:
+        raise ConfigError(scenario.source, "controller", str(error)) from None
+    sim.reset(start, seed)
     return sim
 
 
@@ -156,6 +217,10 @@ def _simulate(
                 f"shove: {np.linalg.norm(force):.0f} N for {shove.duration_s:g} s"
                 + (f" ({shove.label})" if shove.label else "")
             )
+        diverged = sim.divergence()
+        if diverged is not None:  # the state was reset: no frame from here on is true
+            summary.end_reason = f"diverged before t={k * dt:.3f} s: {diverged}"
+            raise SimulationDiverged(scenario.source, summary.end_reason)
         fall = sim.fall_reason() if k in timeline_steps else None
         if fall is not None:
             reason = f"fell: {fall} at t={sim.time_s:.2f} s"

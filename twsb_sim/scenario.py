@@ -15,8 +15,12 @@ A scenario is a TOML file (see ``scenarios/`` and the README's "Scenario files")
     [[shoves]]
     t_s = 5.0
     force_n = [60.0, 0.0, 0.0]
-    [robot]                  # overrides of RobotConfig, LidarConfig, LqrConfig, SimulationConfig
-    lidar_height_m = 0.30
+    [robot]                  # overrides of RobotConfig, LidarConfig, LqrConfig, SimulationConfig,
+    lidar_height_m = 0.30    # ImuConfig, AttitudeFilterConfig, OdometryConfig
+    [lidar]
+    sweep = "instant"        # a global-shutter scan (default: "rotating")
+    [imu]
+    rate_hz = 400.0
 
 Every mistake is reported as a :class:`~twsb_sim.config_errors.ConfigError` naming the
 file, the key and what was expected, so the command line prints one line, not a
@@ -32,15 +36,23 @@ from pathlib import Path
 from typing import Any
 
 from twsb_sim.config_errors import ConfigError, apply_overrides, coerce_value
+from twsb_sim.control.balance import BalanceConfig
 from twsb_sim.control.lqr import LqrConfig
+from twsb_sim.environment import ENVIRONMENT_KEYS, Environment, environment_from_table
+from twsb_sim.house.named import NAMED_HOUSES
 from twsb_sim.lidar import LidarConfig
 from twsb_sim.robot import RobotConfig
+from twsb_sim.sensors.attitude import AttitudeFilterConfig
+from twsb_sim.sensors.imu import ImuConfig
+from twsb_sim.sensors.odometry import OdometryConfig
 from twsb_sim.timeline import CommandPoint, Shove
 
 MAX_VELOCITY_MPS = 2.0  # m/s, beyond what a small home TWSB robot can do
 MAX_YAW_RATE_RAD_S = 3.0  # rad/s
 MAX_SHOVE_FORCE_N = 500.0  # N
 MAX_DURATION_S = 3600.0  # s
+MAX_SHOVE_POINT_M = 1.0  # m, per body-frame coordinate: a push lands on the robot
+MAX_START_YAW_DEG = 360.0  # deg
 
 
 @dataclass(frozen=True)
@@ -75,6 +87,19 @@ class HouseChoice:
             raise ValueError(f"spawn: expected a spawn pose index >= 0, got {self.spawn}")
         if self.seed is not None and self.seed < 0:
             raise ValueError(f"seed: expected an integer >= 0, got {self.seed}")
+        if self.name is not None and self.name not in NAMED_HOUSES:
+            raise ValueError(
+                f"name: expected one of {sorted(NAMED_HOUSES)} (or house.seed for a random"
+                f" house), got {self.name!r}"
+            )
+        if self.start is not None:
+            yaw_deg = self.start[2]
+            if not all(math.isfinite(v) for v in self.start):
+                raise ValueError(f"start: expected finite (x m, y m, yaw deg), got {self.start}")
+            if abs(yaw_deg) > MAX_START_YAW_DEG:
+                raise ValueError(
+                    f"start: expected a yaw within +-{MAX_START_YAW_DEG:g} deg, got {yaw_deg:g}"
+                )
 
 
 @dataclass(frozen=True)
@@ -90,9 +115,14 @@ class Scenario:
     lidar: LidarConfig = field(default_factory=LidarConfig)
     controller: LqrConfig = field(default_factory=LqrConfig)
     simulation: SimulationConfig = field(default_factory=SimulationConfig)
+    imu: ImuConfig = field(default_factory=ImuConfig)
+    attitude: AttitudeFilterConfig = field(default_factory=AttitudeFilterConfig)
+    odometry: OdometryConfig = field(default_factory=OdometryConfig)
     description: str = ""
     seed: int = 0  # default seed; the command line's --seed wins
     source: str = "<code>"  # the file it was read from
+    environment: Environment = field(default_factory=Environment)  # floor, ceilings, movers
+    balance: BalanceConfig = field(default_factory=BalanceConfig)  # LQR or PID, stop brake
 
 
 _TOP_LEVEL_SCALARS = {"name": str, "description": str, "duration_s": float, "seed": int}
@@ -101,8 +131,19 @@ _OVERRIDE_TABLES = {
     "lidar": LidarConfig,
     "controller": LqrConfig,
     "simulation": SimulationConfig,
+    "imu": ImuConfig,
+    "attitude": AttitudeFilterConfig,
+    "odometry": OdometryConfig,
+    "balance": BalanceConfig,
 }
-_KNOWN_KEYS = {*_TOP_LEVEL_SCALARS, *_OVERRIDE_TABLES, "house", "commands", "shoves"}
+_KNOWN_KEYS = {
+    *_TOP_LEVEL_SCALARS,
+    *_OVERRIDE_TABLES,
+    "house",
+    "commands",
+    "shoves",
+    *ENVIRONMENT_KEYS,
+}
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -117,6 +158,12 @@ def load_scenario(path: str | Path) -> Scenario:
         table = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ConfigError(path, "", "no such scenario file") from None
+    except IsADirectoryError:
+        raise ConfigError(path, "", "is a folder, not a scenario file") from None
+    except UnicodeDecodeError as error:
+        raise ConfigError(
+            path, "", f"not UTF-8 text (byte {error.start}): not a TOML file"
+        ) from None
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(path, "", f"not valid TOML: {error}") from None
     return scenario_from_table(table, source=path, default_name=path.stem)
@@ -162,6 +209,7 @@ def scenario_from_table(
         commands=_commands(table.get("commands", []), duration_s, source),
         shoves=_shoves(table.get("shoves", []), duration_s, source),
         source=str(source),
+        environment=environment_from_table(table, source),
         **overrides,
     )
 
@@ -228,6 +276,15 @@ def _shoves(value: Any, duration_s: float, source: str | Path) -> tuple[Shove, .
         _check_range(source, f"{where}.duration_s", shove.duration_s, 1e-3, 5.0, "s")
         magnitude = math.hypot(*shove.force_n)
         _check_range(source, f"{where}.force_n", magnitude, 0.0, MAX_SHOVE_FORCE_N, "N (magnitude)")
+        for axis, value in zip("xyz", shove.point_m, strict=True):
+            _check_range(
+                source,
+                f"{where}.point_m",
+                value,
+                -MAX_SHOVE_POINT_M,
+                MAX_SHOVE_POINT_M,
+                f"m ({axis} in the body frame)",
+            )
         if shoves and shove.t_s < shoves[-1].t_s:
             raise ConfigError(
                 source,

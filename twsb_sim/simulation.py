@@ -1,13 +1,16 @@
-"""One robot in one house: physics, balance control and the LiDAR, step by step.
+"""One robot in one house: physics, balance control and the sensors, step by step.
 
 :class:`Simulation` knows nothing of scenario files: it is the engine that the scenario
 runner, the Gymnasium env and the data-set generator all drive. Each physics step runs
-the LQR balance controller (or applies raw wheel torques), and :meth:`Simulation.frame`
-casts the LiDAR from the sensor's current, tilted pose and bundles the truth.
+the LQR balance controller (or applies raw wheel torques) and records the sensors' raw
+state (:class:`~twsb_sim.sensors.SensorSuite`); :meth:`Simulation.frame` hands out the
+LiDAR revolution that has just ended, cast beam by beam from the sensor's poses during
+it, with the robot's truth at the scan's stamp and what its IMU and encoders reported.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -15,11 +18,24 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
-from twsb_sim.control.lqr import LqrConfig, LqrController
+from twsb_sim.control.balance import BalanceConfig, make_balance_controller
+from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
+from twsb_sim.movers import MoverSet
 from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
+from twsb_sim.sensors import (
+    AttitudeFilterConfig,
+    ImuConfig,
+    OdometryConfig,
+    SensorSuite,
+)
+
+# MuJoCo's answer to a diverging simulation: it warns, then resets the state (time 0, the
+# model's origin), and stepping goes on as if nothing happened
+DIVERGENCE_WARNINGS = ("BADQACC", "BADQVEL", "BADQPOS")
 
 
 class RobotFell(RuntimeError):
@@ -34,10 +50,12 @@ class Shove:
     point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
 
 
-def build_model(house: House, robot: RobotConfig) -> mujoco.MjModel:
-    """Compile the robot into the house."""
+def build_model(house: House, robot: RobotConfig, movers: MoverSet | None = None) -> mujoco.MjModel:
+    """Compile the robot into the house, with the movers (people, doors, ...) if any."""
     spec = load_robot_spec(robot)
     add_house_to_spec(spec, house)
+    if movers:
+        movers.add_to_spec(spec)
     return spec.compile()
 
 
@@ -48,8 +66,12 @@ class Simulation:
         house: the house to build.
         robot, lidar, controller: parameters of each subsystem.
         fall_pitch_deg: |pitch| beyond which the robot counts as fallen.
-        seed: seeds the LiDAR noise (a ``SeedSequence`` child); the physics itself is
-            deterministic.
+        seed: seeds the sensors' errors (``SeedSequence`` children: the LiDAR's, then the
+            IMU's); the physics itself is deterministic.
+        imu, attitude, odometry: the IMU, the robot's attitude filter, its wheel odometry.
+        movers: people, pets, doors and light furniture in the house (none by default);
+            the kinematic ones are posed whenever the LiDAR casts.
+        balance: the balance controller (the LQR by default) and its stop brake.
     """
 
     def __init__(
@@ -60,14 +82,25 @@ class Simulation:
         controller: LqrConfig = LqrConfig(),  # noqa: B008
         fall_pitch_deg: float = 45.0,
         seed: int = 0,
+        imu: ImuConfig = ImuConfig(),  # noqa: B008
+        attitude: AttitudeFilterConfig = AttitudeFilterConfig(),  # noqa: B008
+        odometry: OdometryConfig = OdometryConfig(),  # noqa: B008
+        movers: MoverSet | None = None,
+        balance: BalanceConfig | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
-        self.model = build_model(house, robot)
+        self.movers = movers if movers is not None else MoverSet()
+        self.model = build_model(house, robot, self.movers)
+        self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
-        self.controller = LqrController(self.model, robot, controller)
+        self.sensors = SensorSuite(
+            self.model, self.handles, imu, attitude, odometry, self.lidar.scan_time
+        )
+        self.level_view = LevelView(self.model, self.lidar)  # labels on ramps and slopes
+        self.controller = make_balance_controller(self.model, robot, controller, balance)
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
         self._seed = seed
@@ -82,18 +115,25 @@ class Simulation:
 
         Args:
             pose: a spawn pose of the house, or ``(x_m, y_m, yaw_rad)``.
-            seed: a new seed for the LiDAR noise (default: the last one).
+            seed: a new seed for the sensors' errors (default: the last one).
         """
         if seed is not None:
             self._seed = seed
         x, y, yaw = (pose.x_m, pose.y_m, pose.yaw_rad) if isinstance(pose, SpawnPose) else pose
         mujoco.mj_resetData(self.model, self.data)
+        self.movers.pose(self.data, 0.0)
         set_pose(self.model, self.data, x, y, yaw)
         self.controller.reset()
-        self.noise_rng = np.random.default_rng(np.random.SeedSequence(self._seed).spawn(1)[0])
+        lidar_seed, sensors_seed = np.random.SeedSequence(self._seed).spawn(2)
+        self.noise_rng = np.random.default_rng(lidar_seed)
+        self.sensors.reset(self.data, sensors_seed)
         self.command = (0.0, 0.0)
         self.max_abs_pitch_rad = 0.0  # over every physics step since reset
         self._shove: Shove | None = None
+        # the truth at the start of the revolution in progress; before the reset the
+        # robot stood still where it is now
+        self._sweep_start_truth = self.truth()
+        self._sweep_start_is_reset = True
 
     @property
     def time_s(self) -> float:
@@ -110,6 +150,16 @@ class Simulation:
             for i, stat in enumerate(self.data.warning)
             if stat.number > 0
         }
+
+    def divergence(self) -> str | None:
+        """Why the physics can no longer be trusted (None while it can): MuJoCo met a NaN,
+        an infinity or a huge value and reset the state, or a coordinate is not finite."""
+        for name in self.mujoco_warnings():
+            if name in DIVERGENCE_WARNINGS:
+                return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
+        if not np.isfinite(self.data.qpos).all() or not np.isfinite(self.data.qvel).all():
+            return "a position or velocity is not finite"
+        return None
 
     def fall_reason(self) -> str | None:
         """Why the robot counts as fallen now (None while it is up).
@@ -136,13 +186,16 @@ class Simulation:
     def run_commands(self, velocities_mps: np.ndarray, yaw_rates_rad_s: np.ndarray) -> None:
         """Advance one physics step per command pair, the LQR tracking each in turn.
 
-        This is the hot loop: per step only the controller and ``mj_step`` run.
+        This is the hot loop: per step only the controller, ``mj_step`` and one copy of
+        the sensor data run.
         """
         model, data, apply = self.model, self.data, self.controller.apply
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
         controller = self.controller
+        sensors, sensordata = self.sensors, data.sensordata
+        rows, n, capacity = sensors.rows, sensors.count, len(sensors.rows)
         for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
             apply(data, v, w)
             pitch = controller.last_pitch_rad
@@ -151,6 +204,13 @@ class Simulation:
             if shove is not None:
                 self._apply_shove(shove)
             mujoco.mj_step(model, data)
+            if n == capacity:
+                sensors.count = n
+                sensors.flush_full()
+                n = sensors.count
+            rows[n] = sensordata  # the state at the start of this step (see SensorSuite)
+            n += 1
+        sensors.count = n
         self.max_abs_pitch_rad = max_pitch
         if len(velocities_mps):
             self.command = (v, w)
@@ -160,10 +220,15 @@ class Simulation:
         limit = self.handles.torque_limit_nm
         self.data.ctrl[list(self.handles.actuator_ids)] = np.clip(torques_nm, -limit, limit)
         read = self.handles.read_balance_state  # no controller reads the pitch here
+        sensors = self.sensors
         for _ in range(n_steps):
             if self._shove is not None:
                 self._apply_shove(self._shove)
             mujoco.mj_step(self.model, self.data)
+            if sensors.count == len(sensors.rows):
+                sensors.flush_full()
+            sensors.rows[sensors.count] = self.data.sensordata
+            sensors.count += 1
             self.max_abs_pitch_rad = max(self.max_abs_pitch_rad, abs(read(self.data).pitch_rad))
 
     def set_shove(self, shove: Shove | None) -> None:
@@ -187,11 +252,40 @@ class Simulation:
     # -- sensing -------------------------------------------------------------------------
 
     def frame(self, index: int, phase: str = "") -> Frame:
-        """Cast the LiDAR now and bundle the scan, labels and truth into a frame."""
+        """The scan that ends now, with its labels, the truth at its stamp and the sensors.
+
+        A rotating scan is the revolution of the last ``scan_time`` seconds, each beam
+        cast from the sensor's pose at its own time; an instant scan is cast now. The
+        truth is the robot's state at the scan's stamp (the time of beam 0): for a
+        counter-clockwise revolution, the state when the previous frame was taken, so
+        frames are meant to be taken every ``scan_time`` (the runner and the env do);
+        the first frame after a reset is the revolution before it, the robot standing
+        still where it was placed.
+        """
         # after mj_step, derived quantities (site poses, sensors) lag qpos by one step:
         # recompute them so the scan, the IMU and the truth describe the same instant
+        self.movers.pose(self.data, self.time_s)
         mujoco.mj_forward(self.model, self.data)
-        reading = self.lidar.scan(self.data, self.noise_rng)
+        now = self.time_s
+        lidar = self.lidar
+        self.sensors.sync()
+        truth = self.truth()
+        if lidar.stamp_offset_s:  # beam 0 came first: the truth of the revolution's start
+            truth, self._sweep_start_truth = self._sweep_start_truth, truth
+            stamp = now + lidar.stamp_offset_s
+            if abs(truth.stamp_s - stamp) < self.dt_s / 2:
+                stamp = truth.stamp_s  # the same instant, the same float
+            elif self._sweep_start_is_reset:
+                truth = dataclasses.replace(truth, stamp_s=stamp)
+            self._sweep_start_is_reset = False
+        else:
+            stamp = now
+        if lidar.rotating:
+            track = self.sensors.pose_track(self.data)
+            reading = lidar.sweep(self.data, self.noise_rng, track, stamp)
+        else:
+            reading = lidar.scan(self.data, self.noise_rng)
+        labels = self.level_view.relabel(self.data, reading)
         scan = Scan(
             ranges=reading.ranges,
             angle_min=self.lidar.angle_min,
@@ -200,16 +294,17 @@ class Simulation:
             range_max=self.lidar.range_max,
             time_increment=self.lidar.time_increment,
             scan_time=self.lidar.scan_time,
-            stamp=self.time_s,
+            stamp=reading.stamp_s,
         )
         return Frame(
             index=index,
             scan=scan,
-            labels=reading.labels,
+            labels=labels,
             hit_points_world=reading.hit_points_world,
-            truth=self.truth(),
+            truth=truth,
             phase=phase,
             geom_ids=reading.geom_ids,
+            sensors=self.sensors.readings(reading.stamp_s, now),
         )
 
     def truth(self) -> RobotTruth:

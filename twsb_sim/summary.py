@@ -18,12 +18,15 @@ class FilterCounts:
 
     Counted over beams whose input range is finite (DESIGN.md); positives are the
     pitch-variation labels, a beam is predicted positive when the filter removed it.
+    Beams on moving objects (DYNAMIC) are neither: the ones removed are counted apart.
     """
 
     true_positives: int = 0
     false_positives: int = 0
     false_negatives: int = 0
     true_negatives: int = 0
+    dynamic_removed: int = 0  # DYNAMIC beams the filter removed
+    dynamic_beams: int = 0  # DYNAMIC beams with a finite range
 
     @property
     def precision(self) -> float:
@@ -37,8 +40,13 @@ class FilterCounts:
 
     def add(self, ranges: np.ndarray, labels: np.ndarray, removed: np.ndarray) -> None:
         finite = np.isfinite(ranges)
+        dynamic = finite & (labels == BeamLabel.DYNAMIC)
+        removed = np.asarray(removed, dtype=bool)
+        self.dynamic_removed += int(np.count_nonzero(removed & dynamic))
+        self.dynamic_beams += int(np.count_nonzero(dynamic))
+        finite &= ~dynamic
         truth = is_pitch_variation(labels)[finite]
-        predicted = np.asarray(removed, dtype=bool)[finite]
+        predicted = removed[finite]
         self.true_positives += int(np.count_nonzero(truth & predicted))
         self.false_positives += int(np.count_nonzero(~truth & predicted))
         self.false_negatives += int(np.count_nonzero(truth & ~predicted))
@@ -98,7 +106,7 @@ class RunSummary:
     def add_frame(self, frame: Frame, removed: np.ndarray | None) -> None:
         """Fold one frame (and the filter's mask for it) into the totals."""
         self.frames += 1
-        self.simulated_s = max(self.simulated_s, frame.stamp_s)
+        self.simulated_s = max(self.simulated_s, frame.received_s)
         self.max_abs_pitch_deg = max(
             self.max_abs_pitch_deg, abs(math.degrees(frame.truth.pitch_rad))
         )
@@ -157,6 +165,12 @@ class RunSummary:
         width = max((len(t.name) for t in tallies), default=0)
         for k, tally in enumerate(tallies):
             lines.append(("filter          " if k == 0 else " " * 16) + tally.format(width))
+            c = tally.counts
+            if c.dynamic_beams:
+                lines.append(
+                    " " * 16 + f"{'':<{width}} moving objects: removed {c.dynamic_removed} of"
+                    f" {c.dynamic_beams} DYNAMIC beams (not counted above)"
+                )
         if len(tallies) > 1:
             lines.append(" " * 16 + f"why these differ: {WHY_FILTERS_DIFFER}")
         return "\n".join(lines)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from twsb_sim.cli import EXIT_FELL, EXIT_USAGE, main
 
@@ -31,6 +32,14 @@ def test_run_prints_a_summary_and_writes_frames(tmp_path, capsys):
         assert frames["labels"].dtype == np.uint8
         assert frames["removed"].shape == (11, 720)
         assert frames["truth_pitch_rad"].shape == (11,)
+        # per-beam timing of the rotating scan, and what the robot's sensors reported
+        assert frames["time_increment"] == pytest.approx(0.1 / 720)
+        np.testing.assert_allclose(np.diff(frames["stamps"]), 0.1, atol=1e-9)
+        assert frames["sensor_attitude_rpy_rad"].shape == (11, 3)
+        assert frames["sensor_pose_lidar_in_odom"].shape == (11, 3)
+        per_frame = frames["imu_samples_per_frame"]
+        assert frames["imu_samples"].shape == (per_frame.sum(), 10) and per_frame[1:].min() > 0
+        assert frames["odometry_samples"].shape == (frames["odometry_samples_per_frame"].sum(), 6)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["frames"] == 11 and summary["seed"] == 2
     assert (out / "scenario.toml").read_text() == SHORT

@@ -19,6 +19,7 @@ from twsb_sim.house import Room
 from twsb_sim.house.floorplan import assemble_house
 from twsb_sim.labels import BeamLabel
 from twsb_sim.lidar import LidarConfig
+from twsb_sim.robot import RobotConfig
 from twsb_sim.simulation import Simulation
 
 ROOM_X_M, ROOM_Y_M = 8.0, 6.0  # wall centre lines
@@ -31,7 +32,15 @@ def sim() -> Simulation:
     house = assemble_house(
         "box", None, CEILING_M, (Room("room", 0.0, 0.0, ROOM_X_M, ROOM_Y_M),), (), ()
     )
-    return Simulation(house, lidar=LidarConfig(range_noise_std_m=0.0), seed=0)
+    # the robot is held at a pose: a global-shutter scanner without reading errors, mounted
+    # level on the axle's centre line as the closed forms assume
+    robot = RobotConfig(
+        lidar_offset_x_m=0.0,
+        lidar_offset_y_m=0.0,
+        lidar_tilt_pitch_deg=0.0,
+        lidar_tilt_roll_deg=0.0,
+    )
+    return Simulation(house, robot=robot, lidar=LidarConfig.ideal(sweep="instant"), seed=0)
 
 
 def hold_at(sim: Simulation, x_m: float, y_m: float, yaw_rad: float, pitch_rad: float) -> None:

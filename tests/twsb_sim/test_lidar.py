@@ -22,7 +22,7 @@ from twsb_sim.labels import BeamLabel
 from twsb_sim.lidar import Lidar, LidarConfig
 
 INNER_X, INNER_Y, CEILING = 2.95, 1.95, 2.5  # m
-NOISELESS = LidarConfig(range_noise_std_m=0.0)
+NOISELESS = LidarConfig.ideal()  # no reading errors; the default has a cheap scanner's
 MM = 1e-3  # m
 
 
@@ -80,8 +80,15 @@ def test_laserscan_intrinsics():
     assert lidar.angle_increment == pytest.approx(math.radians(0.5))
     assert lidar.angle_max == pytest.approx(math.pi - math.radians(0.5))
     assert lidar.scan_time == pytest.approx(0.1)
-    assert lidar.time_increment == 0.0
-    assert (lidar.range_min, lidar.range_max) == (0.05, 12.0)
+    # a rotating scanner by default: beams one after the other over the revolution
+    assert lidar.time_increment == pytest.approx(0.1 / 720)
+    assert lidar.stamp_offset_s == pytest.approx(-0.1)
+    assert (lidar.range_min, lidar.range_max) == (0.15, 12.0)  # RPLIDAR A1
+    instant = Lidar(model, LidarConfig(sweep="instant"))
+    assert (instant.time_increment, instant.stamp_offset_s) == (0.0, 0.0)
+    clockwise = Lidar(model, LidarConfig(rotation="clockwise"))
+    assert clockwise.time_increment == pytest.approx(-0.1 / 720)
+    assert clockwise.stamp_offset_s == 0.0
 
 
 def _floor_hits(h, origin_xy, dirs):
@@ -260,7 +267,7 @@ def test_moving_body_is_dynamic():
 def test_same_seed_same_scan_other_seed_other_scan():
     model, data = _model()
     _place(model, data, [0.2, 0.1, 0.25], pitch=0.05)
-    lidar = Lidar(model)
+    lidar = Lidar(model, LidarConfig.ideal(range_noise_std_m=0.02))
     first = lidar.scan(data, np.random.default_rng(7))
     again = lidar.scan(data, np.random.default_rng(7))
     other = lidar.scan(data, np.random.default_rng(8))
@@ -273,7 +280,7 @@ def test_same_seed_same_scan_other_seed_other_scan():
 def test_noise_std_matches_config():
     model, data = _model()
     _place(model, data, [0.0, 0.0, 0.25])
-    lidar = Lidar(model, LidarConfig(range_noise_std_m=0.03))
+    lidar = Lidar(model, LidarConfig.ideal(range_noise_std_m=0.03))
     rng = np.random.default_rng(1)
     expected = _level_ranges(0.0, 0.0, lidar.angles)[lidar.useful]
     errors = np.concatenate(
@@ -287,7 +294,7 @@ def test_noise_never_turns_a_return_into_inf():
     model, data = _model()
     _place(model, data, [0.0, 0.0, 0.25])
     # every wall lies within 1.95..3.6 m; range_max just above the farthest corner
-    lidar = Lidar(model, LidarConfig(range_max_m=3.6, range_noise_std_m=0.5))
+    lidar = Lidar(model, LidarConfig.ideal(range_max_m=3.6, range_noise_std_m=0.5))
     rng = np.random.default_rng(2)
     for _ in range(10):
         reading = lidar.scan(data, rng)
@@ -310,6 +317,9 @@ def test_reading_carries_the_sensor_pose():
     [("beams_per_revolution", 0), ("beams_per_revolution", 720.0), ("rate_hz", 0.0),
      ("useful_fov_deg", 400.0), ("range_min_m", -1.0), ("range_max_m", 0.01),
      ("range_noise_std_m", -0.1), ("horizontal_normal_min_z", 1.5),
+     ("sweep", "global"), ("rotation", "left"), ("dropout_probability", 1.5),
+     ("grazing_dropout_start_deg", 95.0), ("range_noise_fraction", -0.01), ("ray_groups", 0),
+     ("mixed_pixel_probability", 2.0), ("range_resolution_m", -0.001),
      ("blocked_sector_center_deg", float("nan")), ("rate_hz", True)],
 )  # fmt: skip
 def test_config_errors_start_with_the_field_name(field, value):

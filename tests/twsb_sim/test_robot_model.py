@@ -163,7 +163,7 @@ def test_set_pose_places_the_robot_upright_at_rest(robot_on_floor):
 
 
 def test_balance_state_follows_rep103_signs(robot_on_floor):
-    model, data = robot_on_floor()
+    model, data = robot_on_floor(RobotConfig(lidar_tilt_pitch_deg=0.0, lidar_tilt_roll_deg=0.0))
     handles = RobotHandles(model)
     a, b = handles.qpos_adr, handles.qvel_adr
     yaw, pitch = 0.5, 0.1  # nose down

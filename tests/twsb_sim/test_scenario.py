@@ -65,6 +65,20 @@ def test_overrides_reach_the_configs(tmp_path):
     assert scenario.house.seed == 4 and scenario.house.name is None
 
 
+def test_sensor_tables_reach_the_configs(tmp_path):
+    text = MINIMAL + (
+        "[lidar]\nsweep = 'instant'\nrotation = 'clockwise'\n"
+        "[imu]\nrate_hz = 400.0\nlatency_s = 0.01\n"
+        "[attitude]\ntime_constant_s = 1.5\n"
+        "[odometry]\nrate_hz = 20.0\nencoder_counts_per_rev = 4096\n"
+    )
+    scenario = load_scenario(write(tmp_path, text))
+    assert (scenario.lidar.sweep, scenario.lidar.rotation) == ("instant", "clockwise")
+    assert (scenario.imu.rate_hz, scenario.imu.latency_s) == (400.0, 0.01)
+    assert scenario.attitude.time_constant_s == 1.5
+    assert (scenario.odometry.rate_hz, scenario.odometry.encoder_counts_per_rev) == (20.0, 4096)
+
+
 @pytest.mark.parametrize(
     ("text", "key", "expected"),
     [
@@ -96,6 +110,30 @@ def test_overrides_reach_the_configs(tmp_path):
         ),
         (MINIMAL + "[house]\nname = 'house1'\nseed = 3\n", "house.name", "exactly one"),
         (MINIMAL + "commands = 3\n", "commands", "array of tables"),
+        (MINIMAL + "[lidar]\nsweep = 'global'\n", "lidar.sweep", "expected one of"),
+        (MINIMAL + "[lidar]\nrotation = 'cw'\n", "lidar.rotation", "expected one of"),
+        (
+            MINIMAL + "[lidar]\ndropout_probability = 2.0\n",
+            "lidar.dropout_probability",
+            "expected 0 to 1",
+        ),
+        (MINIMAL + "[imu]\nrate_hz = 1000.0\n", "imu.rate_hz", "expected 10 to 500 Hz"),
+        (MINIMAL + "[imu]\ngyro_noise = 0.1\n", "imu.gyro_noise", "unknown key"),
+        (
+            MINIMAL + "[attitude]\ntime_constant_s = 0\n",
+            "attitude.time_constant_s",
+            "expected a value > 0",
+        ),
+        (
+            MINIMAL + "[odometry]\nencoder_counts_per_rev = 10.5\n",
+            "odometry.encoder_counts_per_rev",
+            "expected an integer",
+        ),
+        (
+            MINIMAL + "[robot]\nlidar_tilt_pitch_deg = 30.0\n",
+            "robot.lidar_tilt_pitch_deg",
+            "expected a value in",
+        ),
     ],
 )
 def test_malformed_scenario_names_file_and_key(tmp_path, text, key, expected):

@@ -51,4 +51,9 @@ def test_scenario_runs_cleanly_and_deterministically(path):
         assert np.array_equal(a.scan.ranges, b.scan.ranges, equal_nan=True)
         assert np.array_equal(a.labels, b.labels)
         assert np.array_equal(a.truth.position_base_in_world, b.truth.position_base_in_world)
+        sa, sb = a.sensors, b.sensors  # the sensors' errors come from the seed too
+        assert np.array_equal(sa.imu.gyro_rad_s, sb.imu.gyro_rad_s)
+        assert np.array_equal(sa.attitude_rpy_rad, sb.attitude_rpy_rad)
+        assert np.array_equal(sa.odometry.pose_odom, sb.odometry.pose_odom)
+        assert np.array_equal(sa.pose_lidar_in_odom, sb.pose_lidar_in_odom)
         assert np.abs(a.truth.wheel_torques_nm).max() <= limit + 1e-12

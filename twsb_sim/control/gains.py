@@ -26,7 +26,6 @@ the remaining 13 eigenvalues are the rest of the spectrum. A failing check raise
 from __future__ import annotations
 
 import functools
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,6 +45,10 @@ from twsb_sim.control.linearization import (
 from twsb_sim.robot import RobotConfig
 
 MAX_STABLE_EIGENVALUE = 1.0 - 1e-9  # discrete time: strictly inside the unit circle
+# weights beyond these only make the Riccati equation ill-conditioned: the gains saturate
+# the motors long before, so no robot is served by more
+MAX_WEIGHT = 1e6
+AGGRESSIVENESS_BOUNDS = (0.01, 100.0)  # the span twsb generate draws from
 
 
 class UnstableClosedLoopError(RuntimeError):
@@ -79,16 +82,16 @@ class LqrConfig:
             "yaw_rate_weight",
             "yaw_integral_weight",
         ):
-            _check_weight(name, getattr(self, name), allow_zero=True)
-        _check_weight("torque_weight", self.torque_weight, allow_zero=False)
-        _check_weight("aggressiveness", self.aggressiveness, allow_zero=False)
+            _check_weight(name, getattr(self, name), 0.0, MAX_WEIGHT, allow_low=True)
+        _check_weight("torque_weight", self.torque_weight, 0.0, MAX_WEIGHT, allow_low=False)
+        _check_weight("aggressiveness", self.aggressiveness, *AGGRESSIVENESS_BOUNDS, allow_low=True)
 
 
-def _check_weight(name: str, value: object, allow_zero: bool) -> None:
+def _check_weight(name: str, value: object, low: float, high: float, allow_low: bool) -> None:
     number = isinstance(value, int | float) and not isinstance(value, bool)
-    if not number or not (0.0 <= value < math.inf) or (value == 0.0 and not allow_zero):
-        bound = ">= 0" if allow_zero else "> 0"
-        raise ValueError(f"{name}: expected a finite number {bound}, got {value!r}")
+    if not number or not (low <= value <= high) or (value == low and not allow_low):
+        bound = f"in [{low:g}, {high:g}]" if allow_low else f"in ({low:g}, {high:g}]"
+        raise ValueError(f"{name}: expected a number {bound}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -172,8 +175,13 @@ def compute_gains(robot_config: RobotConfig, lqr_config: LqrConfig) -> LqrGains:
     )
     q_yaw = np.diag([c.yaw_rate_weight, c.yaw_integral_weight])
     r = np.array([[c.torque_weight]])
-    k_sag = np.asarray(control.dlqr(a_sag, b_sag, c.aggressiveness * q_sag, r)[0])[0]
-    k_yaw = np.asarray(control.dlqr(a_yaw, b_yaw, c.aggressiveness * q_yaw, r)[0])[0]
+    try:
+        k_sag = np.asarray(control.dlqr(a_sag, b_sag, c.aggressiveness * q_sag, r)[0])[0]
+        k_yaw = np.asarray(control.dlqr(a_yaw, b_yaw, c.aggressiveness * q_yaw, r)[0])[0]
+    except (np.linalg.LinAlgError, ValueError) as error:  # no stabilizing Riccati solution
+        raise UnstableClosedLoopError(
+            f"no LQR solution for these weights ({error}); change the LqrConfig weights"
+        ) from error
 
     eig_sag = np.linalg.eigvals(a_sag - b_sag @ k_sag[None, :])
     _check_spectrum("sagittal model", eig_sag)

@@ -19,6 +19,7 @@ _MODULES = {  # public name: the module that defines it
     "label_count_filter": "loader",
     "open_dataset": "loader",
     "DatasetMismatchError": "store",
+    "DatasetFormatWarning": "loader",
     "Randomization": "randomization",
     "load_randomization": "randomization",
     "randomization_from_table": "randomization",

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_file, output_folder
 
 
 def add_dataset_commands(commands: argparse._SubParsersAction) -> None:
@@ -69,6 +70,7 @@ def _generate(args: argparse.Namespace) -> int:
         return 0
     if args.out is None:
         raise ConfigError("--out", "", "missing: the data set's folder")
+    output_folder(args.out)
     for flag, value, low in (("--episodes", args.episodes, 0), ("--seed", args.seed, 0)):
         if value < low:
             raise ConfigError(flag, "", f"expected an integer >= {low}, got {value}")
@@ -104,15 +106,21 @@ def _generate(args: argparse.Namespace) -> int:
 def _export_bag(args: argparse.Namespace) -> int:
     from twsb_sim.dataset.loader import open_dataset
     from twsb_sim.dataset.rosbag import export_bag
+    from twsb_sim.dataset.store import DatasetMismatchError
 
     try:
         dataset = open_dataset(args.dataset)
     except FileNotFoundError as error:
         raise ConfigError(args.dataset, "", str(error).split(": ", 1)[-1]) from None
+    except DatasetMismatchError as error:
+        raise ConfigError(error.root, "", error.reason) from None
     if args.episode not in dataset.episode_ids:
         raise ConfigError("--episode", "", f"{args.dataset} has no episode {args.episode}")
     if args.out.exists():
         raise ConfigError("--out", "", f"{args.out} exists; rosbag2 writes a new folder")
+    output_folder(args.out)
+    if args.ros1 is not None:
+        output_file(args.ros1, "--ros1")
     counts = export_bag(
         dataset, args.episode, args.out, ros1_path=args.ros1, time_offset_s=args.time_offset
     )

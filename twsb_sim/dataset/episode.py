@@ -3,9 +3,11 @@
 Episode ``k`` of a data set with seed ``S`` draws everything from
 ``SeedSequence(S, spawn_key=(k,))``, the ``k``-th child of ``SeedSequence(S)``, so its
 content depends on ``(S, k)`` and the ranges only: not on how many workers run, nor
-in which order episodes finish. Four independent streams are spawned from it: the
+in which order episodes finish. Five independent streams are spawned from it: the
 house (layout and start pose), the robot (its parameters), the motion (commands and
-shoves) and the run (LiDAR noise), so narrowing, say, the motion ranges leaves the
+shoves), the run (the sensors' noise), the sensors' calibration (mount, error levels)
+and the environment (floor features on the lane, a low ceiling, people, pets, doors,
+light furniture, and the robot class), so narrowing, say, the motion ranges leaves the
 houses and robots of a data set as they were.
 
 An episode whose robot falls is **kept**, cut at the fall and flagged
@@ -24,8 +26,9 @@ import mujoco
 import numpy as np
 import pyarrow as pa
 
+from twsb_sim.dataset import environment_draw
 from twsb_sim.dataset.motion import Lane, plan_motion
-from twsb_sim.dataset.randomization import Randomization, Range
+from twsb_sim.dataset.randomization import Randomization, Range, SensorRanges
 from twsb_sim.dataset.recorder import EpisodeRecorder
 from twsb_sim.house import ROBOT_RADIUS_M, House, make_house, random_house
 from twsb_sim.house.named import NAMED_HOUSES
@@ -34,6 +37,7 @@ from twsb_sim.labels import BeamLabel, is_pitch_variation
 from twsb_sim.robot import BASE_BODY, HOME_KEY, IMU_SITE, LIDAR_SITE, RobotConfig, load_robot_spec
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
+from twsb_sim.sensors.imu import ImuConfig
 
 FOOTPRINT_TOLERANCE_M = 0.05  # the footprint disc is an over-estimate: touch counts beyond this
 
@@ -53,6 +57,7 @@ class EpisodeDraw:
     spawn: int  # index of the start pose among the house's spawn poses
     reversed_start: bool  # the robot starts facing back along the lane
     lane: Lane
+    robot_class: str = "lqr"  # a name of twsb_sim.robot_classes.ROBOT_CLASSES
 
 
 def _uniform(rng: np.random.Generator, bounds: Range, digits: int = 4) -> float:
@@ -66,13 +71,14 @@ def _seed32(sequence: np.random.SeedSequence) -> int:
 
 def planned_duration_s(seed: int, episode: int, ranges: Randomization) -> float:
     """How long episode ``episode`` lasts (s), without drawing the rest of it."""
-    motion_seq = episode_seed_sequence(seed, episode).spawn(4)[2]
+    motion_seq = episode_seed_sequence(seed, episode).spawn(5)[2]
     return round(_uniform(np.random.default_rng(motion_seq), ranges.episode.duration_s), 1)
 
 
 def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
     """Draw house, start, robot and timeline of episode ``episode`` (no simulation)."""
-    house_seq, robot_seq, motion_seq, run_seq = episode_seed_sequence(seed, episode).spawn(4)
+    streams = episode_seed_sequence(seed, episode).spawn(6)
+    house_seq, robot_seq, motion_seq, run_seq, sensor_seq, environment_seq = streams
     house_rng = np.random.default_rng(house_seq)
     if house_rng.random() < ranges.house.named_fraction:
         name = sorted(NAMED_HOUSES)[int(house_rng.integers(len(NAMED_HOUSES)))]
@@ -102,6 +108,8 @@ def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
     log_low, log_high = (math.log(v) for v in r.aggressiveness)
     aggressiveness = round(math.exp(_uniform(robot_rng, (log_low, log_high), digits=12)), 4)
 
+    sensor_tables = _draw_sensors(np.random.default_rng(sensor_seq), ranges.sensors)
+    robot.update(sensor_tables.pop("robot"))
     duration = planned_duration_s(seed, episode, ranges)
     plan = plan_motion(
         np.random.default_rng(motion_seq.spawn(1)[0]),
@@ -119,10 +127,69 @@ def draw_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeDraw:
         "commands": [dict(c) for c in plan.commands],
         "shoves": [dict(s) for s in plan.shoves],
         "robot": robot,
-        "lidar": {"range_noise_std_m": noise},
+        "lidar": {"range_noise_std_m": noise, **sensor_tables.pop("lidar")},
         "controller": {"aggressiveness": aggressiveness},
+        **sensor_tables,
     }
-    return EpisodeDraw(episode, table, house, spawn, reversed_start, lane)
+    start = (pose.x_m, pose.y_m, yaw)
+    class_name = _draw_environment(environment_seq, table, house, start, lane, ranges)
+    return EpisodeDraw(episode, table, house, spawn, reversed_start, lane, class_name)
+
+
+def _draw_environment(
+    sequence: np.random.SeedSequence,
+    table: dict[str, Any],
+    house: House,
+    start: tuple[float, float, float],
+    lane: Lane,
+    ranges: Randomization,
+) -> str:
+    """Add the environment's tables and the robot class to a scenario table; the class."""
+    rng = np.random.default_rng(sequence)
+    name, class_tables = environment_draw.robot_class(rng, ranges.robot_classes.weights())
+    for key, values in class_tables.items():
+        table[key] = {**table.get(key, {}), **values}
+    ceiling = environment_draw.ceiling(rng, ranges.ceiling)
+    if ceiling is not None:
+        table["ceiling"] = ceiling
+    features = environment_draw.floor_features(rng, lane, ranges.floor)
+    if features:
+        table["floor_features"] = features
+    movers = environment_draw.movers(rng, house, start, lane, ranges.movers, table["duration_s"])
+    table.update({key: rows for key, rows in movers.items() if rows})
+    return name
+
+
+def _draw_sensors(rng: np.random.Generator, r: SensorRanges) -> dict[str, dict[str, Any]]:
+    """One robot's sensor calibration and error levels, as scenario-file tables."""
+    tilt = math.radians(_uniform(rng, r.lidar_tilt_deg))
+    towards = rng.uniform(0.0, math.tau)
+    scale = _uniform(rng, r.imu_error_scale)
+    imu = ImuConfig()
+    return {
+        "robot": {
+            "lidar_tilt_pitch_deg": round(math.degrees(tilt * math.cos(towards)), 4),
+            "lidar_tilt_roll_deg": round(math.degrees(tilt * math.sin(towards)), 4),
+            "lidar_offset_x_m": _uniform(rng, r.lidar_offset_x_m),
+        },
+        "lidar": {
+            "range_noise_fraction": _uniform(rng, r.range_noise_fraction, digits=5),
+            "dropout_probability": _uniform(rng, r.dropout_probability, digits=5),
+        },
+        "imu": {
+            name: float(f"{getattr(imu, name) * scale:.6g}")
+            for name in (
+                "gyro_noise_density_rad_s_sqrt_hz",
+                "gyro_bias_offset_rad_s",
+                "accel_noise_density_mps2_sqrt_hz",
+                "accel_bias_offset_mps2",
+            )
+        },
+        "odometry": {
+            "left_wheel_radius_error": _uniform(rng, r.wheel_radius_error, digits=5),
+            "right_wheel_radius_error": _uniform(rng, r.wheel_radius_error, digits=5),
+        },
+    }
 
 
 @dataclass(frozen=True)
@@ -152,12 +219,18 @@ def run_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeResult
         )
         recorder.truncate(first)
     table = recorder.to_table(episode)
-    summary = _summary(draw, table, fell, end_reason)
+    summary = _summary(draw, table, fell, end_reason, recorder.intrinsics)
     summary["scan"] = recorder.intrinsics
     return EpisodeResult(table, summary)
 
 
-def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) -> dict[str, Any]:
+def _summary(
+    draw: EpisodeDraw,
+    table: pa.Table,
+    fell: bool,
+    end_reason: str,
+    scan: dict[str, float] | None,
+) -> dict[str, Any]:
     """The episode's record in the metadata (plain JSON values)."""
     n = table.num_rows
     labels = table["labels"].combine_chunks().values.to_numpy().reshape(n, -1)
@@ -170,6 +243,8 @@ def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) ->
     xy = np.column_stack([table["base_x_m"].to_numpy(), table["base_y_m"].to_numpy()])
     inside = Obstacles(draw.house.parts()).is_free(xy, ROBOT_RADIUS_M - FOOTPRINT_TOLERANCE_M)
     robot = RobotConfig(**draw.scenario_table["robot"])
+    # a counter-clockwise scan's stamp is the start of its revolution: the run ran on to its end
+    revolution_s = max(0.0, scan["time_increment"] * scan["beams"]) if scan else 0.0
     return {
         "episode": draw.episode,
         "scans": n,
@@ -178,8 +253,9 @@ def _summary(draw: EpisodeDraw, table: pa.Table, fell: bool, end_reason: str) ->
         "house": draw.house.name,
         "spawn": draw.spawn,
         "reversed_start": draw.reversed_start,
+        "robot_class": draw.robot_class,
         "lane_m": [round(-draw.lane.behind_m, 3), round(draw.lane.ahead_m, 3)],
-        "simulated_s": round(float(table["stamp_s"][-1].as_py()), 3) if n else 0.0,
+        "simulated_s": round(float(table["stamp_s"][-1].as_py()) + revolution_s, 3) if n else 0.0,
         "beams_per_label": {
             label.name: int(np.count_nonzero(labels == label)) for label in BeamLabel
         },

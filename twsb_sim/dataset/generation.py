@@ -41,6 +41,7 @@ from twsb_sim.dataset.store import (
     write_atomic,
     write_metadata,
 )
+from twsb_sim.dataset.workers import init_worker
 
 FALLEN_EPISODES_RULE = "kept: cut at the fall and flagged (fell, end_reason) in the summary"
 # the controller design library takes about a second to import: import it once, before
@@ -170,6 +171,11 @@ def generate(
             results.close()  # stops the pool or cancels the cluster's tasks now, not at exit
         bar.close()
         report.wall_s = time.perf_counter() - started
+        # an interrupt can land between a shard's rename and its summary being noted:
+        # the metadata follows the shards on disk
+        for k, path in finished_episodes(root).items():
+            if k not in summaries:
+                summaries[k] = read_summary(path)
         report.episodes = len(summaries)
         write_metadata(root, record, list(summaries.values()))
     return report
@@ -179,20 +185,28 @@ def _run_in_pool(
     workers: int, settings: GenerationSettings, episodes: list[int]
 ) -> Iterator[EpisodeOutput]:
     """Episodes from a local process pool, as they finish (a bounded number in flight)."""
-    context = _worker_context()
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        queue = iter(episodes)
-        running = {pool.submit(episode_task, settings, k) for k in _take(queue, 2 * workers)}
-        try:
-            while running:
-                finished, running = wait(running, return_when=FIRST_COMPLETED)
-                for future in finished:
-                    yield future.result()
-                    running |= {pool.submit(episode_task, settings, k) for k in _take(queue, 1)}
-        except BaseException:
-            for future in running:
-                future.cancel()
-            raise
+    pool = ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=_worker_context(),
+        initializer=init_worker,  # workers die with this process, and leave Ctrl-C to it
+        initargs=(os.getpid(),),
+    )
+    queue = iter(episodes)
+    running = {pool.submit(episode_task, settings, k) for k in _take(queue, 2 * workers)}
+    try:
+        while running:
+            finished, running = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                yield future.result()
+                running |= {pool.submit(episode_task, settings, k) for k in _take(queue, 1)}
+    except BaseException:
+        # interrupted (Ctrl-C, SIGTERM, the caller stopped early): the episodes in flight
+        # are dropped, not waited for; the finished ones are already on disk
+        for process in list(getattr(pool, "_processes", {}).values()):
+            process.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _worker_context() -> multiprocessing.context.BaseContext:

@@ -13,11 +13,16 @@
 
 Label counts are filtered on the per-scan count columns (``n_floor``, ``n_ceiling``, ...,
 ``n_pitch_variation``), so only the matching rows are decoded.
+
+Data sets of an older format (``schema.FORMAT_VERSION``) still load: opening one warns
+(:class:`DatasetFormatWarning`) with what it lacks, ``missing_columns`` lists those
+columns, and asking for one of them is a ``KeyError`` that says so.
 """
 
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,11 +33,15 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
-from twsb_sim.dataset.schema import COUNT_COLUMNS
+from twsb_sim.dataset.schema import COLUMN_SINCE, COUNT_COLUMNS, FORMAT_CHANGES, FORMAT_VERSION
 from twsb_sim.dataset.store import EPISODES_FILE, finished_episodes, read_info, read_summary
 
 if TYPE_CHECKING:
     from pvfilter import Scan
+
+
+class DatasetFormatWarning(UserWarning):
+    """The data set was written in an older format: it lacks some columns."""
 
 
 def label_count_filter(
@@ -134,6 +143,29 @@ class ScanDataset:
         if info is None:
             raise FileNotFoundError(f"{self.root}: not a data set (no meta/info.json)")
         self.info: dict[str, Any] = info
+        version = info.get("format_version", info.get("settings", {}).get("format_version", 1))
+        self.format_version = int(version)
+        if self.format_version > FORMAT_VERSION:
+            raise ValueError(
+                f"{self.root}: data set format {self.format_version} is newer than this "
+                f"version of twsb-pvfilter reads ({FORMAT_VERSION}): update it"
+            )
+        self.missing_columns = tuple(
+            name for name, since in COLUMN_SINCE.items() if since > self.format_version
+        )
+        if self.missing_columns:
+            added = "; ".join(
+                f"format {v}: {text}"
+                for v, text in FORMAT_CHANGES.items()
+                if v > self.format_version
+            )
+            warnings.warn(
+                f"{self.root}: data set format {self.format_version} (this version writes "
+                f"{FORMAT_VERSION}); it lacks what later formats added ({added}); missing "
+                f"columns: {', '.join(self.missing_columns)}",
+                DatasetFormatWarning,
+                stacklevel=2,
+            )
         self._paths = finished_episodes(self.root)
         self.summaries: dict[int, dict[str, Any]] = self._read_summaries()
 
@@ -146,6 +178,16 @@ class ScanDataset:
                 listed[summary["episode"]] = summary
         # an interrupted run may have left shards newer than the list: read their footers
         return {k: listed.get(k) or read_summary(p) for k, p in self._paths.items()}
+
+    def require(self, columns: Sequence[str]) -> None:
+        """Raise a ``KeyError`` naming the columns an older data set does not have."""
+        absent = [c for c in columns if c in self.missing_columns]
+        if absent:
+            raise KeyError(
+                f"{self.root}: no column {', '.join(absent)} in a data set of format "
+                f"{self.format_version} (added in format {COLUMN_SINCE[absent[0]]}: "
+                f"{FORMAT_CHANGES[COLUMN_SINCE[absent[0]]]})"
+            )
 
     @property
     def episode_ids(self) -> list[int]:
@@ -172,6 +214,7 @@ class ScanDataset:
         """Episode ``episode`` (optionally only some columns, some rows)."""
         if episode not in self._paths:
             raise KeyError(f"{self.root}: no episode {episode}")
+        self.require(columns or ())
         table = pq.read_table(self._paths[episode], columns=columns, filters=where)
         return Episode(episode, self.summaries[episode], table)
 

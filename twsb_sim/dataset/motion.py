@@ -15,9 +15,10 @@ the lane:
   heading (the lane is then driven the other way);
 - **pause**: stand still.
 
-Drives and pauses may carry a **shove**. The balance controller tracks velocity, not
-position, so a shove moves the robot for good (about ``displacement_m_per_n_s`` per N·s
-of impulse); the plan pushes towards the side with room and counts the displacement.
+Drives (cruising or braking), turns and pauses may carry a **shove**. The balance
+controller tracks velocity, not position, so a shove moves the robot for good (about
+``displacement_m_per_n_s`` per N·s of impulse); the plan pushes towards the side with
+room and counts the displacement.
 The commanded velocity's integral is what the plan tracks: the controller follows it
 closely (a 1 m/s hard stop ends within a few cm of it).
 """
@@ -37,6 +38,7 @@ TURN_RAMP_S = 0.2  # s, yaw-rate ramps of a turn in place
 SHOVE_RECOVERY_S = 2.0  # s, a shoved robot stands this long before the next maneuver
 MIN_SHOVE_IMPULSE_N_S = 1.0  # N·s, a shove that must be made smaller than this is dropped
 MIN_SPEED_MPS = 0.1  # m/s, a drive that would have to be slower than this becomes a pause
+BRAKING_SHOVE_WITHIN_S = 0.4  # s, a shove while braking starts this soon after the stop
 
 
 @dataclass(frozen=True)
@@ -111,8 +113,15 @@ class _Planner:
         along = direction * self.facing
         return self.high - self.s if along > 0 else self.s - self.low
 
-    def shove(self, t_s: float, positions: tuple[float, ...]) -> float:
+    def shove(self, t_s: float, positions: tuple[float, ...], turned_rad: float = 0.0) -> float:
         """Schedule a shove at ``t_s`` if its push fits the lane from each of ``positions``.
+
+        Args:
+            t_s: when it starts (s).
+            positions: where the robot may be along the lane while it acts (m).
+            turned_rad: how far the robot faces off the lane then (a turn in place); a
+                push "from behind" or "from the front" then acts along the lane, at that
+                angle to the robot's heading, and its cap blends the two directions'.
 
         Returns:
             Its planned displacement along the lane (m), 0 when no shove fits.
@@ -121,22 +130,34 @@ class _Planner:
         duration = _ms(_uniform(rng, r.duration_s))
         height = round(_uniform(rng, r.height_m), 3)
         sign = 1 if rng.random() < 0.5 else -1
-        if rng.random() < r.sideways_fraction:
-            cap = r.max_sideways_angular_impulse_n_m_s / (duration * height)
-            force = min(_uniform(rng, r.lateral_force_n), cap)
+        fraction = _uniform(rng, r.impulse_fraction)
+        lever = duration * height  # N·m·s per N
+
+        def force_n(cap_n_m_s: float, force_range: Range) -> float:
+            if r.impulse_fraction[1] > 0.0:  # by impulse: a share of what it survives
+                return fraction * cap_n_m_s / lever
+            return min(_uniform(rng, force_range), cap_n_m_s / lever)
+
+        if not turned_rad and rng.random() < r.sideways_fraction:
+            force = force_n(r.max_sideways_angular_impulse_n_m_s, r.lateral_force_n)
             label = "shove from the right" if sign > 0 else "shove from the left"
             self._add_shove(t_s, (0.0, sign * force), duration, height, label)
             return 0.0  # a push from a side turns and rolls the robot but hardly moves it
-        cap = r.max_angular_impulse_n_m_s / (duration * height)
-        force = min(_uniform(rng, r.longitudinal_force_n), cap)
+        c, s = math.cos(turned_rad), math.sin(turned_rad)
+        cap = 1.0 / math.hypot(c / r.max_angular_impulse_n_m_s,
+                               s / r.max_sideways_angular_impulse_n_m_s)  # fmt: skip
+        force = force_n(cap, r.longitudinal_force_n)
         k = r.displacement_m_per_n_s
-        for push in (sign, -sign):  # +1: pushed forward (a shove from behind)
+        for push in (sign, -sign):  # +1: pushed forward along the lane (a shove from behind)
             along = push * self.facing  # +1 when the push moves the robot towards +s
-            room = min((self.high - s) if along > 0 else (s - self.low) for s in positions)
+            room = min((self.high - p) if along > 0 else (p - self.low) for p in positions)
             fits = min(force, room / (k * duration)) if k > 0 else force
             if fits * duration >= MIN_SHOVE_IMPULSE_N_S:
                 label = "shove from behind" if push > 0 else "shove from the front"
-                self._add_shove(t_s, (push * fits, 0.0), duration, height, label)
+                if turned_rad:
+                    label += " while turning"
+                # the lane's direction seen from the robot, turned by turned_rad
+                self._add_shove(t_s, (push * fits * c, -push * fits * s), duration, height, label)
                 return along * k * fits * duration
         return 0.0
 
@@ -165,24 +186,27 @@ class _Planner:
         else:
             self.command(0.0, 0.0, 0.0, hold, "pause")
 
-    def turn(self) -> None:
+    def turn(self, with_shove: bool) -> None:
         m, rng = self.motion, self.rng
         sign = 1 if rng.random() < 0.5 else -1
+        shoved = with_shove and rng.random() < self.shove_ranges.turning_probability
         if rng.random() < m.turnabout_probability:
             # half a turn: the lane is driven the other way from now on
             self._rotate(sign * math.pi, _uniform(rng, m.turn_rate_rad_s), "turnabout",
-                         _uniform(rng, m.pause_s), "pause")  # fmt: skip
+                         _uniform(rng, m.pause_s), "pause", shoved)  # fmt: skip
             self.facing = -self.facing
             return
         angle = math.radians(_uniform(rng, m.turn_angle_deg))
         rate, rate_back = _uniform(rng, m.turn_rate_rad_s), _uniform(rng, m.turn_rate_rad_s)
-        self._rotate(sign * angle, rate, "turn", _uniform(rng, m.pause_s), "look")
+        self._rotate(sign * angle, rate, "turn", _uniform(rng, m.pause_s), "look", shoved)
         self._rotate(-sign * angle, rate_back, "turn back", _uniform(rng, m.pause_s), "pause")
 
     def _rotate(
-        self, angle_rad: float, rate_rad_s: float, label: str, then_hold_s: float, then: str
-    ) -> None:
-        """Turn in place by ``angle_rad``, then hold still for ``then_hold_s``.
+        self, angle_rad: float, rate_rad_s: float, label: str, then_hold_s: float, then: str,
+        with_shove: bool = False,
+    ) -> None:  # fmt: skip
+        """Turn in place by ``angle_rad``, then hold still for ``then_hold_s``; with a
+        shove at a random moment of the turn.
 
         The yaw-rate command is a trapezoid (ramp up, hold, ramp down) whose area is the
         angle: ``w * (ramp + hold)``.
@@ -190,8 +214,16 @@ class _Planner:
         ramp = _ms(min(TURN_RAMP_S, abs(angle_rad) / rate_rad_s))
         hold = max(math.ceil((abs(angle_rad) / rate_rad_s - ramp) * 1000) / 1000, MIN_HOLD_S)
         w = angle_rad / (ramp + hold)  # the rounding to ms taken up by the rate
-        self.command(0.0, w, ramp, hold, label)
+        start = self.command(0.0, w, ramp, hold, label)
+        shift = 0.0
+        if with_shove:
+            u = _uniform(self.rng, (0.0, ramp + hold))  # s into the turn
+            turned = w * u * u / (2 * ramp) if u < ramp else w * (ramp / 2 + u - ramp)
+            shift = self.shove(start + u, (self.s,), turned)
         self.command(0.0, 0.0, ramp, then_hold_s, then)
+        if shift:
+            self.s += shift
+            self.command(0.0, 0.0, 0.0, SHOVE_RECOVERY_S, "pause")
 
     def drive(self, with_shove: bool) -> bool:
         """One drive (maybe with a reversal); False when the lane has no room for it."""
@@ -217,7 +249,10 @@ class _Planner:
         self.command(direction * speed, 0.0, speed / accel, 0.0, "accelerate")
         cruise_start = self.command(direction * speed, 0.0, 0.0, cruise_s, "cruise")
         shift = 0.0
-        if with_shove and not reverse and cruise_s > 0.5:
+        at_stop = (
+            with_shove and not reverse and rng.random() < self.shove_ranges.braking_probability
+        )
+        if with_shove and not reverse and cruise_s > 0.5 and not at_stop:
             # the leg is monotonic: checking its start and its standstill covers it
             stop_travel = 0.5 * speed * speed / brake if brake else 0.0
             leg_end = self.s + self.facing * direction * stop_travel
@@ -226,7 +261,11 @@ class _Planner:
         if reverse:
             self._reverse(direction, speed, brake)
         else:
+            stop_start = self.t
             self._stop(speed, brake)
+            if at_stop:  # pushed while braking: the lane from the stop's start to its end
+                t_shove = stop_start + _uniform(rng, (0.0, BRAKING_SHOVE_WITHIN_S))
+                shift = self.shove(t_shove, (leg_start, self.s))
         if shift:
             self.s += shift
             self.command(0.0, 0.0, 0.0, SHOVE_RECOVERY_S, "pause")
@@ -276,7 +315,7 @@ class _Planner:
             draw = rng.random()
             with_shove = rng.random() < self.shove_ranges.probability
             if draw < m.turn_probability:
-                self.turn()
+                self.turn(with_shove)
             elif draw < m.turn_probability + m.pause_probability or not self.drive(with_shove):
                 self.pause(with_shove)
         commands = tuple(c for c in self.commands if c["t_s"] <= self.duration_s)

@@ -13,6 +13,8 @@ the defaults in that form):
     probability = 0.6
     [robot]
     lidar_height_m = 0.30        # fixed
+    [sensors]
+    lidar_tilt_deg = 0.0         # a level scan plane on every robot
 
 Mistakes raise :class:`~twsb_sim.config_errors.ConfigError` naming the file and the key.
 """
@@ -26,6 +28,12 @@ from pathlib import Path
 from typing import Any
 
 from twsb_sim.config_errors import ConfigError, apply_overrides
+from twsb_sim.dataset.environment_ranges import (
+    CeilingRanges,
+    FloorRanges,
+    MoverRanges,
+    RobotClassWeights,
+)
 from twsb_sim.scenario import MAX_VELOCITY_MPS, MAX_YAW_RATE_RAD_S
 
 Range = tuple[float, float]
@@ -127,22 +135,32 @@ class MotionRanges:
 
 @dataclass(frozen=True)
 class ShoveRanges:
-    """Pushes on the robot's body: from behind or the front, or (fewer) from a side.
+    """Pushes on the robot's body: from behind or the front, or (fewer) from a side; while
+    it stands, drives, brakes or turns in place.
 
     How hard a push tips the robot depends on its angular impulse about the axle
-    (force x duration x height): about 9 deg of pitch per N·m·s, and a fall from about
-    5 N·m·s; sideways, it tips over from about 2.5 N·m·s. Forces are cut to the caps.
+    (force x duration x height): about 10 deg of pitch per N·m·s; the default robot
+    survives up to 3.7-4.4 N·m·s from behind or the front and 1.7-2.2 N·m·s from a side,
+    the randomized robots 3.4 / 3.6 / 4.6 N·m·s (10th / 25th / 50th percentile) and
+    1.8 / 1.9 / 2.2 N·m·s (``twsb envelope``, docs/envelope.md). A push's angular
+    impulse is drawn as ``impulse_fraction`` of the cap of its direction, and its force
+    follows from the drawn duration and height; with ``impulse_fraction = 0`` the force
+    is drawn from the force ranges instead and cut to the caps.
     """
 
-    probability: float = 0.35  # a pause or a drive carries a shove
+    probability: float = 0.45  # a pause, a drive or a turn carries a shove
     sideways_fraction: float = 0.2  # of the shoves, those that push from a side
     longitudinal_force_n: Range | float = (15.0, 70.0)  # N, from behind or from the front
     lateral_force_n: Range | float = (5.0, 25.0)  # N, from the left or the right
     duration_s: Range | float = (0.08, 0.25)  # s
     height_m: Range | float = (0.25, 0.45)  # m above the axle where the force acts
-    max_angular_impulse_n_m_s: float = 3.2  # N·m·s, cap of a push from behind or the front
-    max_sideways_angular_impulse_n_m_s: float = 1.5  # N·m·s, cap of a push from a side
+    # caps: about the 25th (10th) percentile of what the randomized robots survive
+    max_angular_impulse_n_m_s: float = 3.6  # N·m·s, cap of a push from behind or the front
+    max_sideways_angular_impulse_n_m_s: float = 1.8  # N·m·s, cap of a push from a side
     displacement_m_per_n_s: float = 0.12  # m per N·s a push moves the robot (for planning)
+    impulse_fraction: Range | float = (0.1, 0.95)  # of the cap; 0 = draw forces instead
+    braking_probability: float = 0.3  # a drive's shove lands while it brakes, not cruises
+    turning_probability: float = 0.5  # a turn in place carries a shove (x probability)
 
     def __post_init__(self) -> None:
         _normalize(self)
@@ -160,6 +178,9 @@ class ShoveRanges:
             100.0,
         )
         _within("displacement_m_per_n_s", self.displacement_m_per_n_s, 0.0, 1.0)
+        _within("impulse_fraction", self.impulse_fraction, 0.0, 2.0)
+        _within("braking_probability", self.braking_probability, 0.0, 1.0)
+        _within("turning_probability", self.turning_probability, 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -184,6 +205,33 @@ class RobotRanges:
 
 
 @dataclass(frozen=True)
+class SensorRanges:
+    """How far each robot's sensors stray from the defaults (``docs/sensors.md``).
+
+    The LiDAR's scan plane is tilted by ``lidar_tilt_deg`` towards a uniformly drawn
+    direction (pitch and roll); the IMU's noise densities and bias offsets are the
+    defaults (BMI088) times ``imu_error_scale``; each wheel's radius error is drawn on
+    its own.
+    """
+
+    lidar_tilt_deg: Range | float = (0.0, 3.0)  # deg, the scan plane off level on the robot
+    lidar_offset_x_m: Range | float = (-0.02, 0.05)  # m, LiDAR ahead of the axle centre
+    range_noise_fraction: Range | float = (0.005, 0.015)  # std per metre of range
+    dropout_probability: Range | float = (0.0, 0.02)  # returns lost at random
+    imu_error_scale: Range | float = (0.5, 2.0)  # times the data sheet's noise and offsets
+    wheel_radius_error: Range | float = (-0.01, 0.01)  # believed / true radius - 1, per wheel
+
+    def __post_init__(self) -> None:
+        _normalize(self)
+        _within("lidar_tilt_deg", self.lidar_tilt_deg, 0.0, 10.0)
+        _within("lidar_offset_x_m", self.lidar_offset_x_m, -0.15, 0.15)
+        _within("range_noise_fraction", self.range_noise_fraction, 0.0, 1.0)
+        _within("dropout_probability", self.dropout_probability, 0.0, 1.0)
+        _within("imu_error_scale", self.imu_error_scale, 0.0, 100.0)
+        _within("wheel_radius_error", self.wheel_radius_error, -0.2, 0.2)
+
+
+@dataclass(frozen=True)
 class Randomization:
     """All the ranges, one table each in a ranges file."""
 
@@ -192,6 +240,11 @@ class Randomization:
     motion: MotionRanges = field(default_factory=MotionRanges)
     shoves: ShoveRanges = field(default_factory=ShoveRanges)
     robot: RobotRanges = field(default_factory=RobotRanges)
+    sensors: SensorRanges = field(default_factory=SensorRanges)
+    floor: FloorRanges = field(default_factory=FloorRanges)
+    ceiling: CeilingRanges = field(default_factory=CeilingRanges)
+    movers: MoverRanges = field(default_factory=MoverRanges)
+    robot_classes: RobotClassWeights = field(default_factory=RobotClassWeights)
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
         """Plain values (ranges as lists), the form of a ranges file and of the metadata."""
@@ -245,6 +298,12 @@ def load_randomization(path: str | Path | None) -> Randomization:
         table = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ConfigError(path, "", "no such ranges file") from None
+    except IsADirectoryError:
+        raise ConfigError(path, "", "is a folder, not a ranges file") from None
+    except UnicodeDecodeError as error:
+        raise ConfigError(
+            path, "", f"not UTF-8 text (byte {error.start}): not a TOML file"
+        ) from None
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(path, "", f"not valid TOML: {error}") from None
     return randomization_from_table(table, source=path)

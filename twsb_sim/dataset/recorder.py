@@ -1,4 +1,4 @@
-"""A frame sink that keeps an episode's scans and truth, and turns them into one table."""
+"""A frame sink that keeps an episode's scans, truth and sensor readings as one table."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 import pyarrow as pa
 from scipy.spatial.transform import Rotation
 
-from twsb_sim.dataset.schema import COUNT_COLUMNS, PITCH_VARIATION_CODES, SCHEMA
+from twsb_sim.dataset.schema import COUNT_COLUMNS, PITCH_VARIATION_CODES, SCHEMA, SENSOR_COLUMNS
 from twsb_sim.frame import Frame
 from twsb_sim.labels import BeamLabel
 from twsb_sim.sinks import NullSink
@@ -45,6 +45,21 @@ _TRUTH_VECTORS = {  # RobotTruth field: its columns
 }
 
 
+_SENSOR_SCALARS = {  # SensorReadings field: its columns
+    "pose_base_in_odom": ("odom_x_m", "odom_y_m", "odom_yaw_rad"),
+    "twist": ("odom_forward_velocity_mps", "odom_yaw_rate_rad_s"),
+    "pose_lidar_in_odom": ("lidar_odom_x_m", "lidar_odom_y_m", "lidar_odom_yaw_rad"),
+    "attitude_rpy_rad": ("est_roll_rad", "est_pitch_rad", "est_yaw_rad"),
+}
+_IMU_SAMPLES = ("imu_samples_stamp_s",
+                *(f"imu_samples_gyro_{c}_rad_s" for c in "xyz"),
+                *(f"imu_samples_accel_{c}_mps2" for c in "xyz"),
+                "imu_samples_roll_rad", "imu_samples_pitch_rad", "imu_samples_yaw_rad")  # fmt: skip
+_ODOM_SAMPLES = ("odom_samples_stamp_s", "odom_samples_x_m", "odom_samples_y_m",
+                 "odom_samples_yaw_rad", "odom_samples_forward_velocity_mps",
+                 "odom_samples_yaw_rate_rad_s")  # fmt: skip
+
+
 class EpisodeRecorder(NullSink):
     """Keeps what the data set stores of every frame of one run."""
 
@@ -57,6 +72,9 @@ class EpisodeRecorder(NullSink):
         self.scalars: dict[str, list[float]] = {c: [] for c in _TRUTH_SCALARS}
         self.vectors: dict[str, list[np.ndarray]] = {f: [] for f in _TRUTH_VECTORS}
         self.sensor_rotations: list[np.ndarray] = []
+        self.sensor_scalars: list[np.ndarray] = []  # per frame: the _SENSOR_SCALARS columns
+        self.imu_samples: list[np.ndarray] = []  # per frame: (k, 10), the _IMU_SAMPLES
+        self.odom_samples: list[np.ndarray] = []  # per frame: (k, 6), the _ODOM_SAMPLES
         self.intrinsics: dict[str, float | int] | None = None  # LaserScan fields, first frame
 
     def __len__(self) -> int:
@@ -78,11 +96,19 @@ class EpisodeRecorder(NullSink):
         for name in _TRUTH_VECTORS:
             self.vectors[name].append(getattr(truth, name))
         self.sensor_rotations.append(truth.rotation_sensor_to_world)
+        sensors = frame.sensors
+        self.sensor_scalars.append(np.concatenate([getattr(sensors, f) for f in _SENSOR_SCALARS]))
+        imu, odom = sensors.imu, sensors.odometry
+        self.imu_samples.append(
+            np.column_stack((imu.stamps_s, imu.gyro_rad_s, imu.accel_mps2, imu.rpy_rad))
+        )
+        self.odom_samples.append(np.column_stack((odom.stamps_s, odom.pose_odom, odom.twist)))
 
     def truncate(self, n_frames: int) -> None:
         """Keep only the first ``n_frames`` frames."""
         lists = [self.ranges, self.labels, self.stamps, self.phases, self.shove_active]
         lists += [self.sensor_rotations, *self.scalars.values(), *self.vectors.values()]
+        lists += [self.sensor_scalars, self.imu_samples, self.odom_samples]
         for values in lists:
             del values[n_frames:]
 
@@ -111,7 +137,29 @@ class EpisodeRecorder(NullSink):
             counts = np.count_nonzero(labels == label, axis=1)
             columns[COUNT_COLUMNS[label.name]] = counts.astype(np.int16)
         columns["n_pitch_variation"] = np.isin(labels, PITCH_VARIATION_CODES).sum(1, np.int16)
+        names = [c for cs in _SENSOR_SCALARS.values() for c in cs]
+        scalars = np.array(self.sensor_scalars, np.float64).reshape(n, len(names))
+        columns.update({c: scalars[:, i] for i, c in enumerate(names)})
+        types = {name: dtype for name, dtype, _ in SENSOR_COLUMNS}
+        for names, samples in (
+            (_IMU_SAMPLES, self.imu_samples),
+            (_ODOM_SAMPLES, self.odom_samples),
+        ):
+            columns.update(_ragged_columns(names, samples, types))
         return pa.table({f.name: columns[f.name] for f in SCHEMA}, schema=SCHEMA)
+
+
+def _ragged_columns(
+    names: tuple[str, ...], per_row: list[np.ndarray], types: dict[str, pa.DataType]
+) -> dict[str, pa.ListArray]:
+    """List columns from one ``(k_row, len(names))`` block per row (k_row may vary)."""
+    lengths = np.array([len(block) for block in per_row], dtype=np.int32)
+    offsets = pa.array(np.concatenate(([0], np.cumsum(lengths))).astype(np.int32), pa.int32())
+    stacked = np.vstack(per_row) if per_row else np.zeros((0, len(names)))
+    return {
+        name: pa.ListArray.from_arrays(offsets, pa.array(stacked[:, i], types[name].value_type))
+        for i, name in enumerate(names)
+    }
 
 
 def _list_array(rows: np.ndarray, value_type: pa.DataType) -> pa.ListArray:

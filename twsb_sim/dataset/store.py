@@ -100,8 +100,32 @@ def finished_episodes(root: Path) -> dict[int, Path]:
 
 def remove_partial_files(root: Path) -> None:
     """Delete temporary files left by an interrupted run."""
-    for path in (root / DATA_DIR).glob("chunk-*/.*.partial"):
+    for path in [
+        *(root / DATA_DIR).glob("chunk-*/.*.partial"),
+        *(root / "meta").glob(".*.partial"),
+    ]:
         path.unlink(missing_ok=True)
+
+
+def _is_unfinished_creation(root: Path) -> bool:
+    """Whether ``root`` holds nothing but what an interrupted creation of a data set leaves:
+    the ``meta``, ``data`` and ``data/chunk-*`` folders and hidden ``.partial`` files, no
+    ``meta/info.json`` yet (so no finished episode either: shards follow it)."""
+    for path in root.rglob("*"):
+        relative = path.relative_to(root)
+        if path.is_dir() and not path.is_symlink():
+            top = relative.parts[0]
+            if top not in ("meta", DATA_DIR) or (top == "meta" and len(relative.parts) > 1):
+                return False
+            if (
+                top == DATA_DIR
+                and len(relative.parts) > 1
+                and not (len(relative.parts) == 2 and relative.parts[1].startswith("chunk-"))
+            ):
+                return False
+        elif not (path.name.startswith(".") and path.name.endswith(".partial")):
+            return False
+    return True
 
 
 def read_summary(path: Path) -> dict[str, Any]:
@@ -115,29 +139,43 @@ def _write_json(path: Path, value: Any) -> None:
 
 
 def read_info(root: Path) -> dict[str, Any] | None:
-    """The data set's ``meta/info.json``, or None when there is none."""
+    """The data set's ``meta/info.json``, or None when there is none.
+
+    Raises:
+        DatasetMismatchError: the file is there but is not JSON.
+    """
     try:
         return json.loads((root / INFO_FILE).read_text(encoding="utf-8"))
     except FileNotFoundError:
         return None
+    except ValueError as error:  # not UTF-8, or not JSON
+        raise DatasetMismatchError(
+            root, f"{INFO_FILE} is not a data set's metadata (not JSON: {error})"
+        ) from None
 
 
 def prepare_output(root: Path, settings: dict[str, Any]) -> None:
     """Make ``root`` ready to receive episodes generated with ``settings``.
 
     A new or empty folder gets a ``meta/info.json``; a folder holding a data set made
-    with the same settings is resumed (partial files of an interrupted run removed).
+    with the same settings is resumed (partial files of an interrupted run removed). So
+    is a folder whose creation was interrupted before ``meta/info.json`` appeared: it
+    holds only empty folders and ``.partial`` files, which are removed, and the creation
+    starts over. A kill at any moment thus leaves a folder the same command resumes.
 
     Raises:
-        DatasetMismatchError: ``root`` holds other files, or a data set whose settings
-            differ (the message lists which).
+        DatasetMismatchError: ``root`` is a file, holds other files, or holds a data set
+            whose settings differ (the message lists which).
     """
+    if root.exists() and not root.is_dir():
+        raise DatasetMismatchError(root, "is a file, not a folder; choose a new --out")
     info = read_info(root)
     if info is None:
-        if root.exists() and any(root.iterdir()):
+        if root.exists() and not _is_unfinished_creation(root):
             raise DatasetMismatchError(
                 root, f"not empty and not a data set (no {INFO_FILE}); choose a new --out"
             )
+        remove_partial_files(root)
         _write_json(root / INFO_FILE, {"settings": settings})
         return
     stored = info.get("settings", {})

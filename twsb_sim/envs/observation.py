@@ -1,7 +1,10 @@
-"""The environments' observation: the latest scan, the IMU, wheel odometry and the target.
+"""The environments' observation: the latest scan, the robot's own IMU, attitude estimate
+and wheel odometry, and the target.
 
-Every entry is ``float32`` in a finite ``Box``, as learning code expects (and
-``check_env`` asks for). Two consequences, both documented in the README:
+The IMU, attitude and odometry entries are what the robot's sensors report (noise, bias,
+latency, encoder ticks and calibration errors; ``docs/sensors.md``), not the truth, which
+is in ``info``. Every entry is ``float32`` in a finite ``Box``, as learning code expects
+(and ``check_env`` asks for). Two consequences, both documented in the README:
 
 - **Scan ranges** lose REP-117's infinities: ``+inf`` (no return within ``range_max``)
   reads ``range_max``; ``-inf`` (closer than ``range_min``, and the beams blocked by the
@@ -15,16 +18,28 @@ Every entry is ``float32`` in a finite ``Box``, as learning code expects (and
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
 from twsb_sim.frame import RobotTruth
+from twsb_sim.sensors.attitude import quat_from_rpy
 
 GYRO_RANGE_RAD_S = math.radians(2000.0)  # rad/s, a common MEMS gyro's full scale
 ACCEL_RANGE_MPS2 = 16.0 * 9.80665  # m/s², a common MEMS accelerometer's full scale (16 g)
 WHEEL_SPEED_RANGE_RAD_S = 100.0  # rad/s, far beyond what the motors reach
 ODOMETRY_RANGE_M = 1000.0  # m, far beyond any house
+TWIST_RANGE = (10.0, 20.0)  # m/s, rad/s: far beyond what the robot does
+
+
+class RobotSensors(NamedTuple):
+    """What the robot's own sensors say now (see :class:`~twsb_sim.sensors.SensorSuite`)."""
+
+    imu: np.ndarray  # (6,) latest gyro (rad/s) and accel (m/s²) reading, imu frame
+    rpy_rad: np.ndarray  # (3,) attitude estimate: roll, pitch, yaw
+    pose_odom: np.ndarray  # (3,) x m, y m, yaw rad of base_footprint in odom
+    twist: np.ndarray  # (2,) forward m/s, yaw rate rad/s
 
 
 def _box(limit: float | tuple[float, ...], shape: tuple[int, ...]) -> spaces.Box:
@@ -48,8 +63,10 @@ def observation_space(
             "imu_gyro": _box(GYRO_RANGE_RAD_S, (3,)),
             "imu_accel": _box(ACCEL_RANGE_MPS2, (3,)),
             "imu_quat": _box(1.0, (4,)),
+            "attitude": _box(math.pi, (2,)),
             "wheel_speeds": _box(WHEEL_SPEED_RANGE_RAD_S, (2,)),
             "odometry": _box((ODOMETRY_RANGE_M, ODOMETRY_RANGE_M, math.pi), (3,)),
+            "odometry_twist": _box(TWIST_RANGE, (2,)),
             "target": _box(target_limits, (2,)),
         }
     )
@@ -65,11 +82,16 @@ def make_observation(
     scan_ranges: np.ndarray,
     range_max_m: float,
     truth: RobotTruth,
-    odometry: np.ndarray,
+    sensors: RobotSensors,
     target: tuple[float, float],
     space: spaces.Dict,
 ) -> dict[str, np.ndarray]:
-    """Assemble one observation, each entry a new array clipped into its box."""
+    """Assemble one observation, each entry a new array clipped into its box.
+
+    ``imu_quat`` is the estimator's orientation (yaw from the gyro alone, 0 at reset);
+    ``attitude`` its pitch and roll (rad, + nose down, + left side up); ``odometry`` the
+    encoders' dead reckoning in the odom frame (the robot's pose at reset is the origin).
+    """
 
     def clip(name: str, value: np.ndarray | tuple[float, ...]) -> np.ndarray:
         box = space[name]
@@ -77,52 +99,12 @@ def make_observation(
 
     return {
         "scan": encode_scan(scan_ranges, range_max_m),
-        "imu_gyro": clip("imu_gyro", truth.imu_gyro_rad_s),
-        "imu_accel": clip("imu_accel", truth.imu_accel_mps2),
-        "imu_quat": clip("imu_quat", truth.imu_quat),
+        "imu_gyro": clip("imu_gyro", sensors.imu[:3]),
+        "imu_accel": clip("imu_accel", sensors.imu[3:]),
+        "imu_quat": clip("imu_quat", quat_from_rpy(*sensors.rpy_rad)),
+        "attitude": clip("attitude", (sensors.rpy_rad[1], sensors.rpy_rad[0])),
         "wheel_speeds": clip("wheel_speeds", truth.wheel_speeds_rad_s),
-        "odometry": clip("odometry", odometry),
+        "odometry": clip("odometry", sensors.pose_odom),
+        "odometry_twist": clip("odometry_twist", sensors.twist),
         "target": clip("target", target),
     }
-
-
-class WheelOdometry:
-    """Dead reckoning from the wheel angles, as a robot integrates its encoders.
-
-    The pose is in the odometry frame: the robot's pose at reset is the origin. The wheel
-    angles are relative to the body, as encoders measure them, so the body's pitch swing
-    leaks into the travelled distance as it does on a real TWSB robot.
-
-    Args:
-        wheel_radius_m: wheel radius, m.
-        track_width_m: distance between the wheels' contact points, m.
-    """
-
-    def __init__(self, wheel_radius_m: float, track_width_m: float) -> None:
-        self.wheel_radius_m = wheel_radius_m
-        self.track_width_m = track_width_m
-        self.reset(np.zeros(2))
-
-    def reset(self, wheel_angles_rad: np.ndarray) -> None:
-        """Start again at the origin from the current encoder readings (left, right)."""
-        self._last_angles = np.array(wheel_angles_rad, dtype=np.float64)
-        self.pose = np.zeros(3)  # x m, y m, yaw rad, in the odometry frame
-
-    def update(self, wheel_angles_rad: np.ndarray) -> np.ndarray:
-        """Integrate the wheel rotation since the last call; return the pose (x, y, yaw)."""
-        angles = np.asarray(wheel_angles_rad, dtype=np.float64)
-        left, right = (angles - self._last_angles) * self.wheel_radius_m
-        self._last_angles = angles
-        distance = 0.5 * (left + right)
-        turn = (right - left) / self.track_width_m
-        x, y, yaw = self.pose
-        heading = yaw + 0.5 * turn  # midpoint rule: exact for an arc's chord direction
-        yaw += turn
-        self.pose = np.array(
-            [
-                x + distance * math.cos(heading),
-                y + distance * math.sin(heading),
-                math.atan2(math.sin(yaw), math.cos(yaw)),
-            ]
-        )
-        return self.pose.copy()

@@ -29,7 +29,7 @@ from twsb_sim.envs.houses import (
     check_house_option,
     choose_house,
 )
-from twsb_sim.envs.observation import WheelOdometry, make_observation, observation_space
+from twsb_sim.envs.observation import RobotSensors, make_observation, observation_space
 from twsb_sim.envs.options import Range, coerce, make_scan_filter, value_range
 from twsb_sim.envs.render import TrackingRenderer
 from twsb_sim.envs.reward import RewardConfig, reward_terms
@@ -38,6 +38,7 @@ from twsb_sim.house import House
 from twsb_sim.lidar import LidarConfig
 from twsb_sim.robot import RobotConfig, load_robot_spec
 from twsb_sim.scenario import HouseChoice, Scenario, SimulationConfig
+from twsb_sim.sensors import AttitudeFilterConfig, ImuConfig, OdometryConfig
 from twsb_sim.simulation import Shove, Simulation
 from twsb_sim.sinks import FrameSink, NullSink
 from twsb_sim.summary import RunSummary
@@ -75,6 +76,8 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         sink: receives every frame, the filter's result and the events (a
             :class:`twsb_sim.sinks.FrameSink`, such as the Rerun logger).
         robot, lidar, controller: the simulator's subsystem parameters.
+        imu, attitude, odometry: the robot's IMU, attitude filter and wheel odometry,
+            whose readings (not the truth) the observation holds.
         fall_pitch_deg, fall_roll_deg: |pitch| or |roll| beyond which the robot has fallen.
         render_mode: None or ``"rgb_array"``.
         render_size: (width, height) of rendered pictures, pixels.
@@ -99,6 +102,9 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         robot: RobotConfig | None = None,
         lidar: LidarConfig | None = None,
         controller: LqrConfig | None = None,
+        imu: ImuConfig | None = None,
+        attitude: AttitudeFilterConfig | None = None,
+        odometry: OdometryConfig | None = None,
         fall_pitch_deg: float = 45.0,
         fall_roll_deg: float = 45.0,
         render_mode: str | None = None,
@@ -121,10 +127,16 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.robot_config = robot = robot if robot is not None else RobotConfig()
         self.lidar_config = lidar = lidar if lidar is not None else LidarConfig()
         self.controller_config = controller if controller is not None else LqrConfig()
+        self.imu_config = imu if imu is not None else ImuConfig()
+        self.attitude_config = attitude if attitude is not None else AttitudeFilterConfig()
+        self.odometry_config = odometry if odometry is not None else OdometryConfig()
         self.fall_pitch_deg = fall_pitch_deg
 
         def build(h: House) -> Simulation:
-            return Simulation(h, robot, lidar, self.controller_config, fall_pitch_deg)
+            return Simulation(
+                h, robot, lidar, self.controller_config, fall_pitch_deg,
+                imu=self.imu_config, attitude=self.attitude_config, odometry=self.odometry_config,
+            )  # fmt: skip
 
         self._sims = SimulationCache(build)
         self.sim: Simulation | None = None  # the current house's, from the first reset on
@@ -191,8 +203,6 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             target = tuple(float(rng.uniform(low, high)) for low, high in self._target_ranges)
         self._episode = EpisodeState(target=target)
         self._episodes += 1
-        self._odometry = WheelOdometry(sim.handles.wheel_radius_m, sim.handles.track_width_m)
-        self._odometry.reset(self._wheel_angles())
         if self.scan_filter is not None:
             self.scan_filter.reset()
         self._summary = RunSummary(
@@ -211,8 +221,8 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.steps_per_state:
             self.sink.on_state(sim.truth())
         self._take_frame()
-        truth = self._episode.frame.truth
-        return self._observation(truth, self._odometry.pose.copy()), self._info(truth)
+        truth = self._truth_now(self._episode)
+        return self._observation(truth), self._info(truth)
 
     def step(
         self, action: np.ndarray
@@ -263,9 +273,7 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info = self._info(truth)
         info.update(terms)
         reward = float(sum(terms.values()))
-        odometry = self._odometry.update(self._wheel_angles())
-        observation = self._observation(truth, odometry)
-        return observation, reward, bool(episode.fall_reason), False, info
+        return self._observation(truth), reward, bool(episode.fall_reason), False, info
 
     def render(self) -> np.ndarray | None:
         """An RGB picture (uint8[height, width, 3]) from a camera following the robot, with
@@ -335,21 +343,23 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def _truth_now(self, episode: EpisodeState) -> RobotTruth:
         frame = episode.frame
-        if frame is not None and frame.stamp_s == self.sim.time_s:
-            return frame.truth  # the scan was just taken: its truth is current
+        if frame is not None and frame.truth.stamp_s == self.sim.time_s:
+            return frame.truth  # the scan was just taken and its truth is current
         mujoco.mj_forward(self.sim.model, self.sim.data)  # sensors lag mj_step by one step
         return self.sim.truth()
 
-    def _wheel_angles(self) -> np.ndarray:
-        return self.sim.data.qpos[list(self.sim.handles.wheel_qpos_adr)]
-
-    def _observation(self, truth: RobotTruth, odometry: np.ndarray) -> dict[str, np.ndarray]:
-        episode = self._require_episode()
+    def _observation(self, truth: RobotTruth) -> dict[str, np.ndarray]:
+        episode, sensors, now = self._require_episode(), self.sim.sensors, self.sim.time_s
+        sensors.sync()
+        robot = RobotSensors(
+            sensors.latest_imu(now), sensors.attitude_at(now), sensors.pose_at(now),
+            sensors.twist_at(now),
+        )  # fmt: skip
         return make_observation(
             episode.frame.scan.ranges,
             self.sim.lidar.range_max,
             truth,
-            odometry,
+            robot,
             episode.effective_target,
             self.observation_space,
         )
@@ -367,6 +377,9 @@ class TwsbEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             lidar=self.lidar_config,
             controller=self.controller_config,
             simulation=SimulationConfig(fall_pitch_deg=self.fall_pitch_deg),
+            imu=self.imu_config,
+            attitude=self.attitude_config,
+            odometry=self.odometry_config,
             description="an episode of the Gymnasium environment",
             seed=seed,
         )

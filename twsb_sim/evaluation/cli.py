@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_folder
+from twsb_sim.staging import staged_folder
 
 
 def add_eval_parser(commands: argparse._SubParsersAction) -> None:
@@ -45,16 +47,46 @@ def add_eval_parser(commands: argparse._SubParsersAction) -> None:
         "noise, balance controller) for the paper's, the improved filter and the IMU gate",
     )
     parser.add_argument("--no-improved", action="store_true", help="leave the improved filter out")
+    parser.add_argument(
+        "--stress",
+        action="store_true",
+        help="run the stress matrix instead: conditions (scenarios/stress/*.toml) x methods "
+        "(paper, improved, IMU gate, no filter, truth labels), with a heat map",
+    )
+    parser.add_argument(
+        "--episodes", type=int, default=None, help="--stress: episodes per condition (default 6)"
+    )
+    parser.add_argument(
+        "--conditions", nargs="+", default=None, metavar="NAME", help="--stress: these rows only"
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     parser.set_defaults(handler=run_eval)
 
 
+def _check_params_file(path: Path) -> None:
+    """Read the parameter file now, so a bad one fails in one line before the simulations."""
+    from pvfilter import ImprovedParams, load_params
+
+    try:
+        params = load_params(path)
+    except ValueError as error:  # also UnicodeDecodeError and TOML / JSON decode errors
+        raise ConfigError(path, "", str(error).removeprefix(f"{path}: ")) from None
+    if not isinstance(params, ImprovedParams):
+        raise ConfigError(path, "", "not improved-filter parameters (a twsb tune file)")
+
+
 def run_eval(args: argparse.Namespace) -> int:
     """Run the evaluation the arguments ask for and write the report folder."""
+    if args.stress:
+        return run_stress_eval(args)
+    for flag, value in (("--episodes", args.episodes), ("--conditions", args.conditions)):
+        if value is not None:
+            raise ConfigError(flag, "", "only with --stress")
     from twsb_sim.evaluation.config import EvalConfig
     from twsb_sim.evaluation.experiment import run_evaluation
     from twsb_sim.evaluation.report import write_outputs
 
+    output_folder(args.out)
     overrides: dict[str, object] = {}
     if args.seeds is not None:
         if args.seeds < 1:
@@ -65,6 +97,7 @@ def run_eval(args: argparse.Namespace) -> int:
     if args.improved_params is not None:
         if not args.improved_params.is_file():
             raise ConfigError(args.improved_params, "", "no such parameter file")
+        _check_params_file(args.improved_params)
         overrides["improved_params"] = str(args.improved_params)
     overrides["variations"] = args.variations
     overrides["improved"] = not args.no_improved
@@ -74,6 +107,31 @@ def run_eval(args: argparse.Namespace) -> int:
         raise ConfigError("twsb eval", "", str(error)) from None
     results, evaluation = run_evaluation(config, progress=not args.quiet)
     command = "twsb " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "twsb eval"
-    write_outputs(results, evaluation, args.out, command)
+    with staged_folder(args.out) as staging:  # the report appears whole or not at all
+        write_outputs(results, evaluation, staging, command)
     print(f"report written to {args.out}/report.md")
+    return 0
+
+
+def run_stress_eval(args: argparse.Namespace) -> int:
+    """``twsb eval --stress``: the conditions x methods matrix, written as a report folder."""
+    from twsb_sim.evaluation.stress import StressConfig, run_stress
+    from twsb_sim.evaluation.stress_conditions import condition_ranges
+    from twsb_sim.evaluation.stress_report import write_stress_outputs
+
+    overrides: dict[str, object] = {}
+    if args.episodes is not None:
+        overrides["episodes"] = args.episodes
+    if args.conditions:
+        for name in args.conditions:
+            condition_ranges(name)  # an unknown name or a bad file: one line naming it
+        overrides["conditions"] = tuple(args.conditions)
+    try:
+        config = StressConfig.quick(**overrides) if args.quick else StressConfig(**overrides)
+    except ValueError as error:
+        raise ConfigError("twsb eval --stress", "", str(error)) from None
+    results = run_stress(config, progress=not args.quiet)
+    command = "twsb " + shlex.join(sys.argv[1:]) if sys.argv[1:2] == ["eval"] else "twsb eval"
+    write_stress_outputs(results, args.out, command)
+    print(f"stress report written to {args.out}/report.md")
     return 0

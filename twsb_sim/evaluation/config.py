@@ -13,7 +13,7 @@ import numpy as np
 SEQUENCES: tuple[str, ...] = ("normal_sequence", "disturb_sequence")  # the paper's IV-C data
 DEFAULT_HOUSES: tuple[str, ...] = ("house1", "house2", "random:1", "random:2")
 MATCHERS: tuple[str, ...] = ("icp", "ndt", "hsm")
-FAMILIES: tuple[str, ...] = ("pvf", "pvf_detection_only", "datmo", "imu_gate")
+FAMILIES: tuple[str, ...] = ("pvf", "pvf_detection_only", "datmo", "imu_gate", "imu_gate_truth")
 
 # the P_th sweep: dense near 1, where the filter's operating points are
 P_TH_VALUES: tuple[float, ...] = (
@@ -61,7 +61,8 @@ class EvalConfig:
         datmo_speeds_mps: the DATMO-like tracker's speed-threshold sweep, m/s.
         imu_bands_m: the IMU height gate's half-band sweep, m.
         families: the methods compared: ``pvf`` (detection + tracking),
-            ``pvf_detection_only``, ``datmo`` (the DATMO-like tracker), ``imu_gate``.
+            ``pvf_detection_only``, ``datmo`` (the DATMO-like tracker), ``imu_gate`` (on
+            the robot's attitude estimate), ``imu_gate_truth`` (on the true attitude).
         matchers: scan matchers of the section IV-D experiment (scaneval names).
         duration_s: cut every sequence to this many simulated seconds (None: whole).
         max_events_per_run: at most this many pitch-variation events per run go to the

@@ -85,13 +85,18 @@ def _set(params: ImprovedParams, **changes: object) -> ImprovedParams:
 
 
 def improved_filter(
-    recording: Recording, params: ImprovedParams | None = None, imu: bool = False, label: str = ""
+    recording: Recording,
+    params: ImprovedParams | None = None,
+    imu: bool = False,
+    label: str = "",
+    truth: bool = False,
 ) -> FrameFilter:
     """The improved filter told the recorded robot's LiDAR and axle heights (a user knows
-    them); with ``imu`` it is also given the IMU's pitch and roll."""
+    them); with ``imu`` it is also given the robot's attitude estimate (with ``truth``, the
+    true attitude instead)."""
     inputs = ("pitch_rad", "roll_rad") if imu else ()
     return frame_filter(
-        "improved", label or "improved", params, geometry=recording.geometry, inputs=inputs
+        "improved", label or "improved", params, recording.geometry, inputs, truth_inputs=truth
     )
 
 
@@ -219,6 +224,9 @@ class ImprovedEvaluation:
         filters = {
             "improved": improved_filter(recording, label="improved (defaults)"),
             "improved_imu": improved_filter(recording, imu=True, label="improved + IMU"),
+            "improved_imu_truth": improved_filter(
+                recording, imu=True, label="improved + true attitude", truth=True
+            ),
         }
         if self.tuned is not None:
             filters["improved_tuned"] = improved_filter(

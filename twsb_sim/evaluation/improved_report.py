@@ -20,6 +20,7 @@ STYLES = {  # method -> (colour, line style, marker)
     "improved": ("#d6604d", "-", "s"),
     "improved_tuned": ("#b2182b", "--", "v"),
     "improved_imu": ("#f4a582", "-.", "^"),
+    "improved_imu_truth": ("#fddbc7", ":", "^"),
     "imu_gate": ("#4d9221", ":", "d"),
 }
 

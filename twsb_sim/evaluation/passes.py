@@ -20,16 +20,28 @@ from pvfilter import FilterResult
 from twsb_sim.evaluation.recording import Recording
 from twsb_sim.frame import Frame
 from twsb_sim.frame_filter import FrameFilter
-from twsb_sim.labels import is_pitch_variation
+from twsb_sim.labels import BeamLabel, is_pitch_variation
 
 
 def beam_truth(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
-    """Per beam: is it a pitch-variation point, and is its input range finite."""
-    return is_pitch_variation(frame.labels), np.isfinite(frame.scan.ranges)
+    """Per beam: is it a pitch-variation point, and is it scored.
+
+    A beam is scored when its input range is finite and it did not hit a moving object:
+    DYNAMIC beams a filter removes are neither hits nor false alarms for pitch variation
+    (:func:`dynamic_removed` counts them apart).
+    """
+    scored = np.isfinite(frame.scan.ranges) & (frame.labels != BeamLabel.DYNAMIC)
+    return is_pitch_variation(frame.labels), scored
+
+
+def dynamic_removed(frame: Frame, removed: np.ndarray) -> tuple[int, int]:
+    """(DYNAMIC beams removed, DYNAMIC beams with a finite range) of one mask on one frame."""
+    dynamic = (frame.labels == BeamLabel.DYNAMIC) & np.isfinite(frame.scan.ranges)
+    return int(np.count_nonzero(removed & dynamic)), int(np.count_nonzero(dynamic))
 
 
 def confusion(frame: Frame, removed: np.ndarray) -> np.ndarray:
-    """(tp, fp, fn) of one mask on one frame, over its finite beams."""
+    """(tp, fp, fn) of one mask on one frame, over its scored beams (:func:`beam_truth`)."""
     positive, finite = beam_truth(frame)
     predicted = removed & finite
     positive = positive & finite

@@ -21,6 +21,7 @@ FAMILY_STYLES = {  # family -> (colour, line style, marker)
     "pvf_detection_only": ("#67a9cf", "--", "s"),
     "datmo": ("#b2182b", "-", "^"),
     "imu_gate": ("#4d9221", "-.", "d"),
+    "imu_gate_truth": ("#a6dba0", ":", "d"),
 }
 CONDITION_STYLES = {  # scan-matching condition -> (label, colour)
     "without": ("without filter", "#d6604d"),

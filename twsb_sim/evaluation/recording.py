@@ -13,7 +13,7 @@ import mujoco
 
 from twsb_sim.frame import Frame
 from twsb_sim.house import House
-from twsb_sim.runner import build_house, run_scenario
+from twsb_sim.runner import build_house, run_scenario, scenario_world
 from twsb_sim.scenario import HouseChoice, Scenario, load_scenario
 from twsb_sim.scenario_files import resolve_scenario
 from twsb_sim.simulation import build_model
@@ -116,13 +116,15 @@ def record(scenario: Scenario, house: House, seed: int, progress: bool = False) 
 
     Args:
         scenario: the run; ``house`` must be the house it asks for.
-        house: its house (built once by the caller, to name the geoms).
+        house: its house (built once by the caller; its name names the recording).
         seed: the run's seed.
         progress: show the runner's progress bar.
     """
     collect = _Collect()
     summary = run_scenario(scenario, seed=seed, sinks=[collect], progress=progress)
-    model = build_model(house, scenario.robot)
+    # the geoms the beams hit: the house with what the scenario adds, and its movers
+    world, movers, _ = scenario_world(scenario)
+    model = build_model(world, scenario.robot, movers)
     names = tuple(
         mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or "" for i in range(model.ngeom)
     )

@@ -12,22 +12,37 @@ _GEOM_TYPES = {
     "plane": mujoco.mjtGeom.mjGEOM_PLANE,
     "box": mujoco.mjtGeom.mjGEOM_BOX,
     "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+    "capsule": mujoco.mjtGeom.mjGEOM_CAPSULE,
 }
+# a surface with a friction of its own outranks the tyres (geom priority 1), so its
+# coefficients, rolling resistance included (condim 6), set the contact's
+OWN_FRICTION_PRIORITY = 2
+OWN_FRICTION_CONDIM = 6
+
+
+def part_quat(part: Part) -> list[float]:
+    """The part's orientation (w, x, y, z): its pitch about its own y axis, then its yaw."""
+    cy, sy = math.cos(part.yaw_rad / 2), math.sin(part.yaw_rad / 2)
+    cp, sp = math.cos(part.pitch_rad / 2), math.sin(part.pitch_rad / 2)
+    return [cy * cp, -sy * sp, cy * sp, sy * cp]  # q_yaw * q_pitch
 
 
 def _add_part(spec: mujoco.MjSpec, part: Part) -> None:
-    half = part.yaw_rad / 2
-    spec.worldbody.add_geom(
+    geom = spec.worldbody.add_geom(
         name=part.name,
         type=_GEOM_TYPES[part.shape],
         size=list(part.size),
         pos=list(part.pos),
-        quat=[math.cos(half), 0.0, 0.0, math.sin(half)],
+        quat=part_quat(part),
         rgba=list(part.rgba),
         group=part.group,
         contype=1,
         conaffinity=1,
     )
+    if part.friction is not None:
+        geom.friction = list(part.friction)
+        geom.priority = OWN_FRICTION_PRIORITY
+        geom.condim = OWN_FRICTION_CONDIM
 
 
 def add_house_to_spec(spec: mujoco.MjSpec, house: House) -> None:

@@ -6,11 +6,12 @@ radians. A house is a frozen value: two houses built from the same seed compare 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Literal
 
-Shape = Literal["plane", "box", "cylinder"]
+Shape = Literal["plane", "box", "cylinder", "capsule"]
 Rgba = tuple[float, float, float, float]
 Vec3 = tuple[float, float, float]
 
@@ -21,13 +22,21 @@ class Part:
 
     Attributes:
         name: geom name; its prefix gives the surface class (see ``surfaces.py``).
-        shape: ``"plane"``, ``"box"`` or ``"cylinder"`` (a vertical cylinder).
-        size: MuJoCo geom size: box half-extents (m); cylinder (radius, half-height, 0) (m);
-            plane (half-x, half-y, grid spacing) (m).
+        shape: ``"plane"``, ``"box"``, ``"cylinder"`` or ``"capsule"`` (axis along local z:
+            vertical unless pitched).
+        size: MuJoCo geom size: box half-extents (m); cylinder and capsule (radius,
+            half-length, 0) (m); plane (half-x, half-y, grid spacing) (m).
         pos: centre in the world (m).
         yaw_rad: rotation about the world z axis (rad).
         rgba: colour, each channel in [0, 1].
         group: MuJoCo geom group (0 structure, 1 furniture, 2 ceiling; 3 is the robot's).
+        pitch_rad: rotation about the part's own y axis, applied before the yaw (rad): a
+            ramp, a sloped ceiling, a cable lying on the floor (a capsule pitched by pi/2).
+        blocking: whether the part stops a robot driving on the floor (spawn poses, free
+            lanes). Floor features it drives over and surfaces overhead do not.
+        friction: (sliding, torsional, rolling) coefficients of a surface with a friction
+            of its own (a carpet); None keeps MuJoCo's default, where the tyres' friction
+            sets the contact's.
     """
 
     name: str
@@ -37,13 +46,29 @@ class Part:
     yaw_rad: float
     rgba: Rgba
     group: int = 0
+    pitch_rad: float = 0.0
+    blocking: bool = True
+    friction: Vec3 | None = None
 
     @property
     def z_min_m(self) -> float:
         """Height of the part's lowest point above the floor (m)."""
         if self.shape == "plane":
             return self.pos[2]
-        return self.pos[2] - (self.size[2] if self.shape == "box" else self.size[1])
+        c, s = abs(math.cos(self.pitch_rad)), abs(math.sin(self.pitch_rad))
+        if self.shape == "box":
+            return self.pos[2] - (c * self.size[2] + s * self.size[0])
+        radius, half = self.size[0], self.size[1]
+        if self.shape == "capsule":
+            return self.pos[2] - (c * half + radius)
+        return self.pos[2] - (c * half + s * radius)
+
+    @property
+    def z_max_m(self) -> float:
+        """Height of the part's highest point above the floor (m)."""
+        if self.shape == "plane":
+            return self.pos[2]
+        return 2 * self.pos[2] - self.z_min_m
 
 
 @dataclass(frozen=True)
@@ -148,6 +173,11 @@ class House:
         walls: wall segments and door frames.
         furniture: the furniture.
         spawn_poses: start poses, the longest clear lane ahead first.
+        features: what makes the floor and the ceiling uneven (door thresholds, rugs,
+            ramps, cables, sloped ceilings, stairs, wall shelves): parts named
+            ``floor_<kind>_<k>...`` and ``ceiling_<kind>_<k>...`` are floor and ceiling
+            surfaces; see :mod:`twsb_sim.house.floor_features` and
+            :mod:`twsb_sim.house.ceilings`.
     """
 
     name: str
@@ -162,14 +192,16 @@ class House:
     walls: tuple[Part, ...]
     furniture: tuple[Furniture, ...]
     spawn_poses: tuple[SpawnPose, ...]
+    features: tuple[Part, ...] = ()
 
     def parts(self) -> Iterator[Part]:
-        """Every geom of the house, floor and ceiling first."""
+        """Every geom of the house, floor and ceiling first, the features last."""
         yield self.floor
         yield self.ceiling
         yield from self.walls
         for piece in self.furniture:
             yield from piece.parts
+        yield from self.features
 
     def room(self, name: str) -> Room:
         """The room called ``name``."""

@@ -1,4 +1,4 @@
-"""The fixed named layouts, ``house1`` and ``house2``.
+"""The fixed named layouts: ``house1``, ``house2``, ``basement`` and ``attic``.
 
 house1 (11 m x 8 m, ceiling 2.5 m): a long living room (10.9 m x 4.4 m inside) with a
 sofa corner and a dining table, and three rooms off its north side (kitchen, bedroom,
@@ -8,6 +8,9 @@ and stop hard.
 house2 (14 m x 10 m, ceiling 2.6 m): a 14 m corridor with living room, dining room and
 kitchen to the south and two bedrooms, a bathroom and an office to the north; more
 furniture per room. The corridor and the rooms' middles are the long free lanes.
+
+``basement`` and ``attic`` (low and sloped ceilings), and every layout's extras
+(thresholds, rugs, stairs, ...), are in :mod:`twsb_sim.house.named_extras`.
 """
 
 from __future__ import annotations
@@ -15,9 +18,11 @@ from __future__ import annotations
 import functools
 import math
 
+from twsb_sim.house.extras import HouseExtras, with_extras
 from twsb_sim.house.floorplan import assemble_house
 from twsb_sim.house.furniture import make_furniture
 from twsb_sim.house.model import Doorway, House, Room
+from twsb_sim.house.named_extras import EXTRA_LAYOUTS, NAMED_EXTRAS
 from twsb_sim.house.placement import against_wall
 
 DOOR_HEIGHT_M = 2.05  # m
@@ -135,19 +140,36 @@ def _house2() -> House:
     return assemble_house("house2", None, 2.6, rooms, doors, furniture)
 
 
-NAMED_HOUSES = {"house1": _house1, "house2": _house2}
+NAMED_HOUSES = {"house1": _house1, "house2": _house2, **EXTRA_LAYOUTS}
 
 
 @functools.cache
 def make_house(name: str) -> House:
-    """One of the fixed named layouts (built once, then shared: a House is immutable).
+    """One of the fixed named layouts with its extras (built once, then shared: a House
+    is immutable).
 
     Args:
-        name: ``"house1"`` or ``"house2"``.
+        name: a key of :data:`NAMED_HOUSES` (``house1``, ``house2``, ``basement``,
+            ``attic``).
 
     Raises:
         ValueError: for any other name.
     """
+    return with_extras(plain_house(name), named_house_extras(name))
+
+
+@functools.cache
+def plain_house(name: str) -> House:
+    """A named layout without its extras.
+
+    Raises:
+        ValueError: for an unknown name.
+    """
     if name not in NAMED_HOUSES:
         raise ValueError(f"house: expected one of {sorted(NAMED_HOUSES)}, got {name!r}")
     return NAMED_HOUSES[name]()
+
+
+def named_house_extras(name: str) -> HouseExtras:
+    """The extras of a named layout (none for a layout without)."""
+    return NAMED_EXTRAS.get(name, HouseExtras())

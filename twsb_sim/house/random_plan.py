@@ -9,7 +9,10 @@ Recipe (every draw from ``numpy.random.default_rng(seed)``):
 4. doorways: a random spanning tree over the rooms that share enough wall, a door from
    the hall into every room it touches, and a few extra doors;
 5. furniture per room type, against walls or free-standing, never in front of a doorway
-   nor in the living room's middle lane, never overlapping.
+   nor in the living room's middle lane, never overlapping;
+6. the house's extras, from a stream of their own (:mod:`twsb_sim.house.random_extras`):
+   ceiling height, thresholds and ramps in doorways, rugs, a cable, attic slopes, stairs,
+   wall shelves.
 
 A draw that leaves a room unreachable is thrown away and drawn again from the same
 generator, so a seed always gives the same house.
@@ -22,10 +25,12 @@ import math
 
 import numpy as np
 
+from twsb_sim.house.extras import HouseExtras, with_extras
 from twsb_sim.house.floorplan import WALL_THICKNESS_M, assemble_house
 from twsb_sim.house.furniture import make_furniture
 from twsb_sim.house.model import Doorway, Furniture, House, Room
 from twsb_sim.house.placement import Rect, against_wall, door_keep_outs, footprint, interior
+from twsb_sim.house.random_extras import draw_extras
 
 MIN_ROOM_M = 2.6  # smallest room side between wall centrelines (m)
 DOOR_CORNER_GAP_M = 0.35  # from a door's edge to the nearest wall corner (m)
@@ -254,8 +259,21 @@ def random_house(seed: int) -> House:
         seed: any non-negative integer.
 
     Returns:
-        A house named ``random_<seed>``.
+        A house named ``random_<seed>``, with its extras.
     """
+    return with_extras(random_plain_house(seed), random_house_extras(seed))
+
+
+def random_house_extras(seed: int) -> HouseExtras:
+    """The extras of random house ``seed`` (ceiling, floor features, stairs, ...)."""
+    plain = random_plain_house(seed)
+    return draw_extras(seed, plain.rooms, plain.doorways, plain.furniture, plain.extent_m)
+
+
+@functools.lru_cache(maxsize=16)
+def random_plain_house(seed: int) -> House:
+    """Random house ``seed`` without its extras: rooms, doorways, furniture, a flat
+    ceiling at 2.4-2.7 m."""
     rng = np.random.default_rng(np.random.SeedSequence(seed))
     ceiling = _r(rng.uniform(2.4, 2.7), 0.01)
     for _ in range(MAX_PLAN_DRAWS):

@@ -2,7 +2,8 @@
 
 The robot is treated as a disc of radius ``ROBOT_RADIUS_M`` moving in the floor plane.
 Obstacles are the footprints of every wall, door jamb and furniture part that reaches
-below ``OBSTACLE_TOP_M`` (door headers do not). A box footprint is inflated by the radius
+below ``OBSTACLE_TOP_M`` (door headers do not); parts that do not block (floor features
+the robot drives over, surfaces overhead) are left out. A box footprint is inflated by the radius
 into a larger rectangle (not a rounded one), so the clearances are lower bounds: the
 robot can always drive at least ``clear_ahead_m``, sometimes up to ~0.1 m more.
 """
@@ -29,7 +30,9 @@ class Obstacles:
 
     def __init__(self, parts: Iterable[Part]) -> None:
         blocking = [
-            p for p in parts if p.shape in ("box", "cylinder") and p.z_min_m < OBSTACLE_TOP_M
+            p
+            for p in parts
+            if p.blocking and p.shape in ("box", "cylinder") and p.z_min_m < OBSTACLE_TOP_M
         ]
         boxes = [p for p in blocking if p.shape == "box"]
         discs = [p for p in blocking if p.shape == "cylinder"]

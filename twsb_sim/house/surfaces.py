@@ -4,8 +4,8 @@ Naming convention of house geoms (``add_house_to_spec`` writes exactly these):
 
 | name | class |
 |---|---|
-| ``floor`` | FLOOR |
-| ``ceiling`` | CEILING |
+| ``floor``, ``floor_<kind>_<k>...`` (thresholds, rugs, ramps, cables) | FLOOR |
+| ``ceiling``, ``ceiling_<kind>_<k>...`` (sloped ceilings, stair undersides) | CEILING |
 | ``wall_<k>``, ``door_frame_<k>_left|right|header`` | STRUCTURE |
 | ``<kind>_<k>_<part>``, kind in table, sofa, shelf, chair, cabinet, bed | FURNITURE |
 | any geom in geom group 3 | ROBOT |
@@ -40,9 +40,9 @@ _FURNITURE_PREFIXES = tuple(f"{kind}_" for kind in FURNITURE_KINDS)
 
 def surface_class_of_name(name: str) -> SurfaceClass:
     """The class a static house geom's name implies."""
-    if name == "floor":
+    if name == "floor" or name.startswith("floor_"):
         return SurfaceClass.FLOOR
-    if name == "ceiling":
+    if name == "ceiling" or name.startswith("ceiling_"):
         return SurfaceClass.CEILING
     if name.startswith(_FURNITURE_PREFIXES):
         return SurfaceClass.FURNITURE

@@ -50,6 +50,7 @@ def _world_view(start: tuple[float, float, float] | None) -> rrb.Spatial3DView:
         origin=paths.WORLD,
         overrides={
             paths.TRAJECTORY: _UP_TO_CURSOR,  # the whole path so far, not the last segment
+            paths.ODOMETRY: _UP_TO_CURSOR,
             paths.HOUSE_CEILING: rrb.EntityBehavior(visible=False),  # it would hide the rest
         },
         background=(30, 30, 34),
@@ -117,15 +118,17 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
         paths.SENSOR_CLUSTER_IDS,
     )
     plots = rrb.Grid(
-        _plot("Pitch", paths.PLOT_PITCH),
+        _plot("Pitch: truth and IMU estimate", paths.PLOT_PITCH),
+        _plot("Roll: truth and IMU estimate", paths.PLOT_ROLL),
         _plot("Pitch rate", paths.PLOT_PITCH_RATE),
-        _plot("Velocity", paths.PLOT_VELOCITY),
+        _plot("Velocity: command, truth, encoders", paths.PLOT_VELOCITY),
+        _plot("Encoder odometry error", paths.PLOT_ODOMETRY_ERROR),
         _plot("Yaw rate", paths.PLOT_YAW_RATE),
         _plot("Wheel torques", paths.PLOT_WHEEL_TORQUE),
         _plot("Pitch-variation beams", paths.PLOT_BEAMS),
         _plot("Precision / recall per frame", paths.PLOT_PRECISION_RECALL),
         _plot("P(C_pv)", paths.PLOT_P_PV),
-        grid_columns=4,
+        grid_columns=5,
     )
     return rrb.Blueprint(
         rrb.Vertical(

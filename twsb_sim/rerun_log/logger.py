@@ -37,6 +37,7 @@ from twsb_sim.rerun_log.scans import (
     log_scan_styles,
     log_sensor_labels,
 )
+from twsb_sim.rerun_log.sensors import log_sensor_series, log_sensor_styles
 from twsb_sim.rerun_log.timelines import frame_times, sim_times
 
 if TYPE_CHECKING:
@@ -101,17 +102,23 @@ class RerunLogger:
         self._frames_logged = 0  # over all runs
         self._last_t_s = 0.0
         self._last_position: np.ndarray | None = None  # where the trajectory ends
+        self._latest_frame_stamp = -math.inf  # s, of this run's latest scan
+        self._start_xy_yaw = np.zeros(3)  # the robot's start: the odom frame's origin
 
     # -- the run loop's hooks -------------------------------------------------------------
 
     def on_start(self, scenario: Scenario, sim: Simulation) -> None:
         """Log what does not change during the run: house, robot body, classes, styles."""
-        self.flush()
+        self.flush(final=True)  # what is left of the previous run
         if self._runs:  # a later run starts one frame period after the last one ended
-            self._t0_s = self._last_t_s + 1.0 / scenario.lidar.rate_hz
+            # (its first scan is stamped one revolution before its time 0)
+            self._t0_s = self._last_t_s + 1.0 / scenario.lidar.rate_hz - sim.lidar.stamp_offset_s
             self._frame0 = self._frames_logged
         self._runs += 1
         self._sim, self._scenario, self._last_position = sim, scenario, None
+        truth = sim.truth()  # where the odom frame starts
+        self._start_xy_yaw = np.array([*truth.position_base_in_world[:2], truth.yaw_rad])
+        self._latest_frame_stamp = -math.inf
         rec = self.rec
         if self.send_blueprint and self._runs == 1:
             truth = sim.truth()
@@ -125,6 +132,7 @@ class RerunLogger:
         log_robot_body(rec, sim.model, sim.handles.base_body_id, sim.handles.lidar_site_id)
         log_sensor_view_frame(rec, sim.lidar.range_max)
         log_series_styles(rec)
+        log_sensor_styles(rec)
         log_scan_styles(rec)
         log_trajectory_style(rec)
         self._event(sim.time_s, f"run: {scenario.name} in {sim.house.name}")
@@ -152,7 +160,7 @@ class RerunLogger:
         """Log what is left and how the run ended; flush the recording to its sinks."""
         t_s = self._sim.time_s if self._sim is not None else summary.simulated_s
         self._event(t_s, f"ended: {summary.end_reason}", frame=max(self._next_frame() - 1, 0))
-        self.flush()
+        self.flush(final=True)
         try:
             if self.close_recording:
                 self.rec.disconnect()  # flushes, and finishes an .rrd file
@@ -163,10 +171,22 @@ class RerunLogger:
 
     # -- batches --------------------------------------------------------------------------
 
-    def flush(self) -> None:
-        """Log the buffered frames and states now."""
+    def flush(self, final: bool = False) -> None:
+        """Log the buffered frames and states now.
+
+        A scan reaches the logger one revolution after its stamp, and its truth is the
+        state sample of that stamp: states newer than the latest scan wait for the next
+        batch (unless ``final``), so that each instant is logged once.
+        """
         frames, results, states = self._frames, self._results, self._states
-        self._frames, self._results, self._states = [], [], []
+        self._frames, self._results = [], []
+        if frames:
+            self._latest_frame_stamp = max(self._latest_frame_stamp, frames[-1].stamp_s)
+        if final:
+            self._states = []
+        else:
+            self._states = [s for s in states if s.stamp_s > self._latest_frame_stamp]
+            states = [s for s in states if s.stamp_s <= self._latest_frame_stamp]
         self._last_flush = time.monotonic()
         if self._events:
             log_events(self.rec, *zip(*self._events, strict=True))
@@ -185,6 +205,7 @@ class RerunLogger:
         rec, batch = self.rec, FrameBatch.of(frames, results, self._t0_s, self._frame0)
         log_lidar_hits(rec, batch)
         log_filter_series(rec, batch, self.p_th)
+        log_sensor_series(rec, batch, self._t0_s, self._start_xy_yaw)
         if len(decided := batch.with_results("removed")):
             log_filter_decisions(rec, decided)
         if len(unfiltered := batch.without_results("removed")):  # no decision to show

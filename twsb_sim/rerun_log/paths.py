@@ -18,6 +18,7 @@ ROBOT_BODY = "world/robot/body"  # the robot's geoms, static, in the base frame
 ROBOT_LIDAR = "world/robot/lidar"  # static: the LiDAR frame in the base frame
 SCAN_PLANE = "world/robot/lidar/scan_plane"  # static disc: the plane the beams sweep
 TRAJECTORY = "world/trajectory"  # one segment per pose sample, shown up to the cursor
+ODOMETRY = "world/odometry"  # the encoder odometry's positions, odom placed at the start
 LIDAR_HITS = "world/lidar/points"  # real hit points, world frame, class = BeamLabel
 SHOVES = "world/shoves"  # Arrows3D while a shove acts
 
@@ -34,8 +35,13 @@ SENSOR_CLUSTER_IDS = "sensor/lidar/cluster_ids"  # their centroids: id, P(C_pv),
 
 PLOTS = "plots"
 PLOT_PITCH = "plots/pitch"  # deg, positive = nose down
+PLOT_PITCH_ESTIMATE = "plots/pitch/imu_estimate"  # deg, the robot's estimate per IMU sample
+PLOT_ROLL = "plots/roll"  # deg, positive = left side up
+PLOT_ROLL_ESTIMATE = "plots/roll/imu_estimate"  # deg
 PLOT_PITCH_RATE = "plots/pitch_rate"  # deg/s
 PLOT_VELOCITY = "plots/velocity"  # m/s: command, actual
+PLOT_VELOCITY_ODOMETRY = "plots/velocity/odometry"  # m/s, the encoder odometry's twist
+PLOT_ODOMETRY_ERROR = "plots/odometry_error"  # m and deg: encoder odometry against the truth
 PLOT_YAW_RATE = "plots/yaw_rate"  # deg/s: command, actual
 PLOT_WHEEL_TORQUE = "plots/wheel_torque"  # N·m: left, right
 PLOT_BEAMS = "plots/beams"  # count: pitch-variation beams (truth), removed (filter)

@@ -18,6 +18,7 @@ from pathlib import Path
 import rerun as rr
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_file
 from twsb_sim.sinks import FrameSink, NullSink
 
 APPLICATION_ID = "twsb"
@@ -69,8 +70,10 @@ def _check(args: argparse.Namespace) -> None:
 def open_recording(args: argparse.Namespace) -> rr.RecordingStream | None:
     """A recording stream with the sinks the flags ask for, or None when none is asked for.
 
+    The folders above a recording file are created, as ``--out`` creates its folder.
+
     Raises:
-        ConfigError: contradictory flags.
+        ConfigError: contradictory flags, or a recording path that is a folder.
     """
     _check(args)
     if not wants_recording(args):
@@ -80,7 +83,11 @@ def open_recording(args: argparse.Namespace) -> rr.RecordingStream | None:
         rec.stdout()
         return rec
     sinks: list[rr.FileSink | rr.GrpcSink | rr.GrpcServerSink] = []
-    files = {Path(p).resolve() for p in (args.rrd, args.save) if p}
+    files = {
+        output_file(path, flag, create_parents=True).resolve()  # as --out makes its folder
+        for flag, path in (("--rrd", args.rrd), ("--save", args.save))
+        if path
+    }
     sinks += [rr.FileSink(path) for path in sorted(files)]
     urls = {args.url} if (args.connect or args.url) else set()
     if args.spawn:

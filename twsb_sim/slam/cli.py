@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_folder
+from twsb_sim.staging import staged_folder
 
 
 def add_slam_parser(commands: argparse._SubParsersAction) -> None:
@@ -40,6 +42,7 @@ def _run_slam(args: argparse.Namespace) -> int:
     from twsb_sim.slam.pipeline import run_slam_experiment
     from twsb_sim.slam.systems import available_systems
 
+    output_folder(args.out)
     config = SlamConfig.quick() if args.quick else SlamConfig()
     overrides = {}
     if args.seeds is not None:
@@ -57,9 +60,10 @@ def _run_slam(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     command = "twsb slam " + " ".join(sys.argv[2:]) if sys.argv[1:2] == ["slam"] else "twsb slam"
-    outputs = run_slam_experiment(
-        config, args.out, progress=not args.quiet, rerun=not args.no_rerun, command=command
-    )
+    with staged_folder(args.out) as staging:  # the outputs appear whole or not at all
+        outputs = run_slam_experiment(
+            config, staging, progress=not args.quiet, rerun=not args.no_rerun, command=command
+        )
     failures = sum(r.failed for r in outputs.results)
     print(
         f"{len(outputs.results)} SLAM runs, {failures} tracking failures; "

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import shlex
 import sys
 import time
@@ -22,6 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from twsb_sim.config_errors import ConfigError
+from twsb_sim.output_paths import output_file
+from twsb_sim.staging import staged_file
 
 QUICK = {"episodes": 3, "heldout": 1, "samples": 3, "rounds": 1, "duration_s": 12.0}
 VALIDATED = 5  # best sets of the search that are scored on the validation episodes
@@ -89,7 +92,7 @@ def run_tune(args: argparse.Namespace) -> int:
     from pvfilter import ImprovedParams, save_params
     from twsb_sim.dataset.randomization import load_randomization
     from twsb_sim.tuning.data import episodes
-    from twsb_sim.tuning.objective import score
+    from twsb_sim.tuning.objective import count_positives, score
     from twsb_sim.tuning.search import SPACE, search
 
     settings = {k: getattr(args, k) for k in ("episodes", "heldout", "samples", "rounds")}
@@ -105,6 +108,7 @@ def run_tune(args: argparse.Namespace) -> int:
         raise ConfigError("--precision", "", f"expected a value in (0, 1], got {args.precision}")
     if args.out.suffix.lower() not in (".toml", ".json"):
         raise ConfigError(args.out, "", "the parameter file must end in .toml or .json")
+    output_file(args.out)
     progress = not args.quiet
     started = time.perf_counter()
     train = _simulate(episodes(args.seed, settings["episodes"], ranges), settings["episodes"],
@@ -123,6 +127,15 @@ def run_tune(args: argparse.Namespace) -> int:
     # (a set that only fits the search's episodes does not)
     fit = [run for i, run in enumerate(train) if i % 3 != 2 or len(train) < 3]
     validation = [run for i, run in enumerate(train) if i % 3 == 2] or train
+    if count_positives(fit) == 0:
+        raise ConfigError(
+            "--episodes",
+            "",
+            "the training episodes hold no pitch-variation beam: nothing to tune on; ask "
+            "for more or longer episodes",
+        )
+    if count_positives(validation) == 0:  # nothing to validate on: judge on the fit
+        validation = fit
 
     def objective(params: ImprovedParams) -> float:
         return score(params, fit, args.precision, args.imu).value(args.objective)
@@ -166,8 +179,14 @@ def run_tune(args: argparse.Namespace) -> int:
         "results": {name: dataclasses.asdict(s) for name, s in rows.items()},
         "wall_s": round(time.perf_counter() - started, 1),
     }
-    save_params(args.out, tuned, tuning)
+    warnings = _undefined_warnings(rows)
+    if warnings:
+        tuning["warnings"] = warnings
+    with staged_file(args.out) as temporary:  # never a half-written parameter file
+        save_params(temporary, tuned, tuning)
     print(_report(rows, tuned, base, log, tuning))
+    for warning in warnings:
+        print(f"twsb tune: warning: {warning}", file=sys.stderr)
     print(f"parameters written to {args.out} (pvfilter --params {args.out})")
     return 0
 
@@ -176,6 +195,21 @@ def _simulate(runs, count: int, desc: str, progress: bool) -> list:
     from tqdm import tqdm
 
     return list(tqdm(runs, total=count, desc=desc, unit="episode", disable=not progress))
+
+
+def _undefined_warnings(rows: dict) -> list[str]:
+    """A warning per set of episodes with no pitch-variation beam (scores undefined)."""
+    empty = sorted({name.split(", ")[1] for name, s in rows.items() if not s.defined})
+    return [
+        f"the {what} episodes hold no pitch-variation beam: their AUC, F1 and recall are "
+        "undefined (n/a); ask for more or longer episodes to score them"
+        for what in empty
+    ]
+
+
+def _number(value: float, width: int, digits: int) -> str:
+    """A score, or ``n/a`` where it is undefined (NaN)."""
+    return f"{'n/a':>{width}s}" if math.isnan(value) else f"{value:{width}.{digits}f}"
 
 
 def _report(rows: dict, tuned, base, log, tuning: dict) -> str:
@@ -192,8 +226,8 @@ def _report(rows: dict, tuned, base, log, tuning: dict) -> str:
     ]
     for name, s in rows.items():
         lines.append(
-            f"{name:22s} {s.auc:6.3f} {s.f1:6.3f} {s.p_th:5.2f} {s.precision:9.3f} "
-            f"{s.recall:7.3f} {s.static_removed_pct:8.2f}"
+            f"{name:22s} {_number(s.auc, 6, 3)} {_number(s.f1, 6, 3)} {s.p_th:5.2f} "
+            f"{_number(s.precision, 9, 3)} {_number(s.recall, 7, 3)} {s.static_removed_pct:8.2f}"
         )
     changed = [
         f"  {f.name}: {getattr(base, f.name)!r} -> {getattr(tuned, f.name)!r}"

@@ -19,7 +19,6 @@ from twsb_sim.dataset.episode import draw_episode
 from twsb_sim.dataset.randomization import Randomization
 from twsb_sim.frame import Frame
 from twsb_sim.labels import BeamLabel, is_pitch_variation
-from twsb_sim.robot_inputs import imu_pitch_roll
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 from twsb_sim.sinks import NullSink
@@ -36,7 +35,8 @@ class TuningRun:
         positive: per scan, bool per beam: a pitch-variation point with a finite range.
         finite: per scan, bool per beam: the range is finite (what the counts run over).
         static: per scan, bool per beam: a STATIC beam with a finite range.
-        attitude: per scan, the IMU's (pitch, roll), rad.
+        attitude: per scan, the robot's attitude estimate (pitch, roll) at the stamp, rad:
+            what its IMU and filter give, lag and errors included.
         lidar_height_m: the robot's scanner height above the floor, m.
         axle_height_m: its wheel axle's height, m.
     """
@@ -67,7 +67,10 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
     collect = _Collect()
     run_scenario(scenario, seed=scenario.seed, sinks=[collect])
     frames = collect.frames
-    finite = np.array([np.isfinite(f.scan.ranges) for f in frames])
+    # scored beams: a finite range, not on a moving object (neither hit nor false alarm)
+    finite = np.array(
+        [np.isfinite(f.scan.ranges) & (f.labels != BeamLabel.DYNAMIC) for f in frames]
+    )
     return TuningRun(
         name=f"{seed}/{episode}",
         house=draw.house.name,
@@ -75,7 +78,7 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
         positive=np.array([is_pitch_variation(f.labels) for f in frames]) & finite,
         finite=finite,
         static=np.array([f.labels == BeamLabel.STATIC for f in frames]) & finite,
-        attitude=np.array([imu_pitch_roll(f.truth.imu_quat) for f in frames]),
+        attitude=np.array([f.attitude_estimate for f in frames]),
         lidar_height_m=scenario.robot.lidar_height_m,
         axle_height_m=scenario.robot.wheel_radius_m,
     )

@@ -10,6 +10,11 @@ the evaluation counts them). From them:
 - ``f1``: the best F1 over the thresholds whose precision is at least the target
   precision (0 when none reaches it).
 
+Runs without a single pitch-variation beam give nothing to score: recall, F1 and AUC
+over no positive are undefined (NaN, printed ``n/a``), not the 1.0 that the PR curve's
+"precision 1 where nothing is removed" convention would read; precision stays defined
+(0) only where beams were removed all the same, every one a false alarm.
+
 The operating point written to the parameter file is the threshold with the best F1 among
 those at the target precision on the training runs (the highest-precision one when none
 reaches it); held-out runs are scored at that threshold, never re-chosen.
@@ -18,6 +23,7 @@ reaches it); held-out runs are scored at that threshold, never re-chosen.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -43,6 +49,8 @@ class Score:
         precision: precision at ``p_th``.
         recall: recall at ``p_th``.
         static_removed_pct: STATIC beams removed at ``p_th``, % of all STATIC beams.
+        positives: pitch-variation beams with a finite range in the runs; with none,
+            the scores above (but a precision of 0 over false alarms) are NaN.
     """
 
     auc: float
@@ -51,6 +59,12 @@ class Score:
     precision: float
     recall: float
     static_removed_pct: float
+    positives: int = 0
+
+    @property
+    def defined(self) -> bool:
+        """Whether the runs held anything to find (the scores are numbers)."""
+        return self.positives > 0
 
     def value(self, objective: str) -> float:
         """The number the search maximizes."""
@@ -111,11 +125,30 @@ def score(
         best = int(np.flatnonzero(reaching)[np.argmax(f1[reaching])])
     else:
         best = int(np.argmax(precision))
+    positives = int(counts[0, 0] + counts[0, 2])  # tp + fn: the same at every threshold
+    static_pct = 100.0 * float(static[best]) / max(int(static[-1]), 1)
+    if positives == 0:  # nothing to find: no score, only false alarms if any
+        false_alarms = counts[best, 1] > 0
+        return Score(
+            auc=math.nan,
+            f1=math.nan,
+            p_th=float(THRESHOLDS[best]),
+            precision=0.0 if false_alarms else math.nan,
+            recall=math.nan,
+            static_removed_pct=static_pct,
+            positives=0,
+        )
     return Score(
         auc=float(curve.auc),
         f1=float(np.max(f1[reaching])) if reaching.any() else 0.0,
         p_th=float(THRESHOLDS[best]),
         precision=float(precision[best]),
         recall=float(recall[best]),
-        static_removed_pct=100.0 * float(static[best]) / max(int(static[-1]), 1),
+        static_removed_pct=static_pct,
+        positives=positives,
     )
+
+
+def count_positives(runs: Sequence[TuningRun]) -> int:
+    """Pitch-variation beams with a finite range in ``runs`` (what recall counts over)."""
+    return sum(int(np.count_nonzero(run.positive)) for run in runs)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 import pytest
 
@@ -11,6 +14,7 @@ from twsb_sim.dataset.randomization import randomization_from_table
 from twsb_sim.dataset.recorder import EpisodeRecorder
 from twsb_sim.dataset.schema import SCHEMA
 from twsb_sim.labels import BeamLabel
+from twsb_sim.robot_classes import ROBOT_CLASSES
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 
@@ -71,7 +75,17 @@ def test_a_fall_is_kept_cut_and_flagged(shoves, reason):
     table = {
         **SHORT,
         "episode": {"duration_s": 6.0},
-        "shoves": {"probability": 1.0, "duration_s": 0.3, "height_m": 0.45, **shoves},
+        # impulse_fraction 0: the force comes from the force range (cut at the caps); no
+        # push mid-turn (its cap blends in the sideways one); the default robot only
+        "shoves": {
+            "probability": 1.0,
+            "duration_s": 0.3,
+            "height_m": 0.45,
+            "impulse_fraction": 0.0,
+            "turning_probability": 0.0,
+            **shoves,
+        },
+        "robot_classes": {name: float(name == "lqr") for name in ROBOT_CLASSES},
     }
     ranges = randomization_from_table(table)
     for episode in range(20):  # the first episode whose plan has a shove
@@ -91,3 +105,25 @@ def test_summary_scenario_reruns_to_the_same_scans(reference):
     recorder = EpisodeRecorder()
     run_scenario(scenario, seed=scenario.seed, sinks=[recorder])
     np.testing.assert_array_equal(np.stack(recorder.ranges), episode.ranges)
+
+
+def test_sensor_draws_stay_in_their_ranges_and_leave_the_rest_as_it_was(short_settings):
+    ranges = short_settings.randomization
+    tilts = []
+    for k in range(8):
+        table = draw_episode(3, k, ranges).scenario_table
+        robot = table["robot"]
+        tilts.append(math.hypot(robot["lidar_tilt_pitch_deg"], robot["lidar_tilt_roll_deg"]))
+        assert -0.02 <= robot["lidar_offset_x_m"] <= 0.05
+        assert 0.005 <= table["lidar"]["range_noise_fraction"] <= 0.015
+        assert abs(table["odometry"]["left_wheel_radius_error"]) <= 0.01
+        assert table["imu"]["gyro_noise_density_rad_s_sqrt_hz"] > 0
+    assert max(tilts) <= 3.0 + 1e-3 and len(set(tilts)) == 8
+    level = dataclasses.replace(
+        ranges, sensors=dataclasses.replace(ranges.sensors, lidar_tilt_deg=(0.0, 0.0))
+    )
+    a, b = draw_episode(3, 1, ranges).scenario_table, draw_episode(3, 1, level).scenario_table
+    assert b["robot"]["lidar_tilt_pitch_deg"] == 0.0
+    for key in ("house", "commands", "shoves", "controller", "seed"):
+        assert a[key] == b[key]
+    assert a["robot"]["body_mass_kg"] == b["robot"]["body_mass_kg"]

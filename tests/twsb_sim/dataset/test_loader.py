@@ -12,11 +12,11 @@ import pyarrow.dataset as pads
 import pyarrow.parquet as pq
 import pytest
 
-from twsb_sim.dataset.loader import label_count_filter, open_dataset
-from twsb_sim.dataset.schema import COLUMNS, SCHEMA
+from twsb_sim.dataset.loader import DatasetFormatWarning, label_count_filter, open_dataset
+from twsb_sim.dataset.schema import COLUMNS, SCHEMA, SENSOR_COLUMNS
 from twsb_sim.labels import BeamLabel, is_pitch_variation
 
-from .conftest import EPISODES
+from .conftest import EPISODES, as_format_1
 
 
 def test_plain_pyarrow_reads_every_scan_with_the_documented_schema(reference):
@@ -107,8 +107,27 @@ def test_reading_never_loads_the_simulator(reference):
     assert out.stdout.split() == [str(len(open_dataset(reference))), "False"]
 
 
-def test_readme_documents_every_column():
-    readme = (Path(__file__).parents[3] / "README.md").read_text(encoding="utf-8")
-    section = readme.split("## Generating labeled data sets", 1)[1].split("\n## ", 1)[0]
-    missing = [name for name, _, _ in COLUMNS if f"`{name}`" not in section]
+def test_docs_document_every_column():
+    """docs/datasets.md documents the truth columns, docs/sensors.md the robot's sensor
+    columns."""
+    root = Path(__file__).parents[3]
+    section = (root / "docs" / "datasets.md").read_text(encoding="utf-8")
+    sensors_page = (root / "docs" / "sensors.md").read_text(encoding="utf-8")
+    sensor_names = {name for name, _, _ in SENSOR_COLUMNS}
+    page = {name: sensors_page if name in sensor_names else section for name, _, _ in COLUMNS}
+    missing = [name for name, text in page.items() if f"`{name}`" not in text]
     assert not missing
+
+
+def test_an_older_data_set_loads_and_says_what_it_lacks(reference, tmp_path):
+    old = tmp_path / "old"
+    as_format_1(reference, old)
+    with pytest.warns(DatasetFormatWarning, match=r"format 1 .*odom_x_m"):
+        data = open_dataset(old)
+    assert data.format_version == 1
+    assert "est_pitch_rad" in data.missing_columns and "ranges" not in data.missing_columns
+    first = data.episode(data.episode_ids[0])
+    assert len(first) > 0 and first.ranges.shape[1] == 720
+    assert sum(1 for _ in data.scans(columns=["pitch_rad"])) == len(data)
+    with pytest.raises(KeyError, match=r"no column est_pitch_rad .* format 1 .*added in format 2"):
+        data.episode(data.episode_ids[0], columns=["est_pitch_rad"])

@@ -44,6 +44,8 @@ def test_a_file_overrides_only_what_it_names(tmp_path):
         ({"motion": {"turn_probability": 0.9, "pause_probability": 0.5}}, "motion"),
         ({"episode": {"duration_s": "long"}}, "episode.duration_s"),
         ({"houses": {}}, "houses"),
+        ({"sensors": {"lidar_tilt_deg": [0.0, 20.0]}}, "sensors.lidar_tilt_deg"),
+        ({"sensors": {"imu_noise": 2.0}}, "sensors.imu_noise"),
     ],
 )
 def test_mistakes_name_the_file_and_key(table, key):

@@ -1,4 +1,4 @@
-"""The environments' parts on their own: scan encoding, odometry, reward, disturbances."""
+"""The environments' parts on their own: scan encoding, reward, disturbances."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from twsb_sim.envs import Disturbances, RewardConfig, TwsbVelocityEnv
 from twsb_sim.envs.disturbances import draw_hard_stop, draw_shove
-from twsb_sim.envs.observation import WheelOdometry, encode_scan
+from twsb_sim.envs.observation import encode_scan
 from twsb_sim.envs.options import coerce
 from twsb_sim.envs.reward import reward_terms
 
@@ -19,16 +19,6 @@ def test_scan_encoding_maps_rep117_into_the_box() -> None:
     encoded = encode_scan(ranges, range_max_m=12.0)
     assert encoded.dtype == np.float32
     np.testing.assert_array_equal(encoded, np.float32([12.0, 0.0, 0.0, 0.05, 3.5, 12.0]))
-
-
-def test_odometry_integrates_a_straight_run_and_a_turn_in_place() -> None:
-    odometry = WheelOdometry(wheel_radius_m=0.1, track_width_m=0.4)
-    odometry.reset(np.array([5.0, -2.0]))  # encoders need not start at zero
-    pose = odometry.update(np.array([15.0, 8.0]))  # both wheels 10 rad: 1 m ahead
-    np.testing.assert_allclose(pose, [1.0, 0.0, 0.0], atol=1e-12)
-    quarter = math.pi / 2 * 0.2 / 0.1  # wheel rad for a quarter turn in place
-    pose = odometry.update(np.array([15.0 - quarter, 8.0 + quarter]))
-    np.testing.assert_allclose(pose, [1.0, 0.0, math.pi / 2], atol=1e-12)
 
 
 def test_reward_is_best_when_tracking_upright_and_still() -> None:

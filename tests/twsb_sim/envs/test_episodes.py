@@ -134,9 +134,10 @@ def test_sink_gets_every_scan_the_events_and_the_summary_once() -> None:
         env.step(np.zeros(2, dtype=np.float32))
     env.close()
     env.close()
-    # one scan at reset, then two per 0.2 s step: every scan, in time order
+    # one scan at reset, then two per 0.2 s step: every scan, in time order; a scan is
+    # stamped with its first beam, one revolution (0.1 s) before it is handed out
     stamps = [frame.stamp_s for frame, _ in sink.frames]
-    assert stamps == pytest.approx(np.arange(21) * 0.1)
+    assert stamps == pytest.approx(np.arange(21) * 0.1 - 0.1)
     assert all(result is not None for _, result in sink.frames)
     assert sink.events[0].startswith("episode 1: house1")
     assert any(text.startswith("shove:") for text in sink.events)
@@ -150,7 +151,8 @@ def test_faster_control_rate_keeps_the_latest_scan() -> None:
     for _ in range(10):
         _, _, _, _, info = env.step(np.array([0.5, 0.0], dtype=np.float32))
         stamps.append(info["scan_stamp_s"])
-    assert stamps == pytest.approx([0.0] * 4 + [0.1] * 5 + [0.2])
+    # the latest complete revolution, stamped with its first beam
+    assert stamps == pytest.approx([-0.1] * 4 + [0.0] * 5 + [0.1])
     assert env.unwrapped.metadata["render_fps"] == 50
 
 

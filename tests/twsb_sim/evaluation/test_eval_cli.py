@@ -33,11 +33,12 @@ def test_quick_eval_covers_every_experiment(quick_report):
     results = json.loads((quick_report / "results.json").read_text())
     assert set(results["pr"]) == {"normal_sequence", "disturb_sequence"}
     for curves in results["pr"].values():
-        assert set(curves) == {"pvf", "pvf_detection_only", "datmo", "imu_gate"}
+        assert set(curves) == {"pvf", "pvf_detection_only", "datmo", "imu_gate", "imu_gate_truth"}
         for curve in curves.values():
             assert 0.0 <= curve["auc"] <= 1.0
     assert set(results["timing"]["methods"]) == {
         "PVF (detection + tracking)", "PVF (detection only)", "DATMO-like", "IMU height gate",
+        "IMU height gate (true attitude)",
     }  # fmt: skip
     assert results["timing"]["pvf_over_datmo_rate"] > 0
     assert set(results["scan_matching"]["all"]["onset"]) == {"icp", "ndt", "hsm"}

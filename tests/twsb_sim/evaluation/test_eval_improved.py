@@ -63,7 +63,14 @@ def quick_report(tmp_path_factory):
 def test_quick_eval_compares_the_improved_filter(quick_report):
     results = json.loads((quick_report / "results.json").read_text())
     improved = results["improved"]
-    methods = {"pvf", "imu_gate", "improved", "improved_imu", "improved_tuned"}
+    methods = {
+        "pvf",
+        "imu_gate",
+        "improved",
+        "improved_imu",
+        "improved_imu_truth",
+        "improved_tuned",
+    }
     for group in ("sequences", "heldout", "variations"):
         for per_method in improved[group].values():
             assert set(per_method) == methods

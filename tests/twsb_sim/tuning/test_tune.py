@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import math
+import tomllib
 
 import numpy as np
 import pytest
@@ -45,6 +48,17 @@ def test_scores_of_a_clean_sequence_and_the_held_out_threshold():
     assert fixed.p_th == 0.3  # not re-chosen
 
 
+def test_runs_with_nothing_to_find_have_no_score():
+    run = synthetic_run()
+    level = dataclasses.replace(run, positive=np.zeros_like(run.positive), static=run.finite)
+    empty = score(ImprovedParams(), [level], 0.9)
+    assert empty.positives == 0 and not empty.defined
+    assert np.isnan(empty.auc) and np.isnan(empty.f1) and np.isnan(empty.recall)
+    # the filter still removes beams here (the scans pitch): all false alarms, precision 0
+    assert empty.precision == 0.0 and empty.static_removed_pct > 0
+    assert score(ImprovedParams(), [run], 0.9).positives == int(run.positive.sum())
+
+
 def test_the_unit_box_maps_both_ways():
     params = ImprovedParams()
     back = params_at(params, unit_of(params))
@@ -66,11 +80,26 @@ def test_search_climbs_to_the_best_point_of_a_toy_objective():
 @pytest.fixture(scope="module")
 def quick_tune(tmp_path_factory):
     out = tmp_path_factory.mktemp("tune") / "robot.toml"
-    assert main(["tune", "--quick", "--quiet", "--out", str(out)]) == 0
-    return out
+    printed = tmp_path_factory.mktemp("tune") / "printed.txt"
+    with open(printed, "w") as stream, contextlib.redirect_stdout(stream):
+        assert main(["tune", "--quick", "--quiet", "--out", str(out)]) == 0
+    return out, printed.read_text()
+
+
+def test_held_out_episodes_without_pitch_variation_are_not_scored(quick_tune):
+    out, printed = quick_tune
+    params_file = tomllib.loads(out.read_text())["tuning"]
+    heldout = params_file["results"]["tuned, held-out"]
+    if heldout["positives"] > 0:
+        pytest.skip("the quick held-out episode holds pitch-variation beams now")
+    assert math.isnan(heldout["auc"]) and math.isnan(heldout["recall"])
+    assert "held-out episodes hold no pitch-variation beam" in params_file["warnings"][0]
+    row = next(line for line in printed.splitlines() if line.startswith("tuned, held-out"))
+    assert row.split()[2:4] == ["n/a", "n/a"] and "1.000" not in row
 
 
 def test_quick_tune_writes_a_file_pvfilter_loads(quick_tune):
+    quick_tune, _ = quick_tune
     params = load_params(quick_tune)
     assert isinstance(params, ImprovedParams)
     text = quick_tune.read_text()

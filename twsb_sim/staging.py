@@ -1,0 +1,93 @@
+"""Outputs that appear whole or not at all, whenever a command is interrupted or killed.
+
+A report folder (``twsb eval``, ``twsb slam``) or a parameter file (``twsb tune``) is
+written under a hidden ``.NAME.partial`` name beside its destination and moved into place
+once complete. An interrupt (Ctrl-C, SIGTERM, an error) removes the partial output; a
+kill (``kill -9``, a power cut) can leave it behind, and the next run of the same
+command removes it before it starts. Either way the destination holds the previous
+complete output, or the new one, never a half-written file.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+
+def partial_path(path: Path) -> Path:
+    """The hidden name ``path`` is written under until it is complete."""
+    return path.with_name(f".{path.name}.partial")
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
+
+
+@contextmanager
+def staged_folder(out: Path) -> Iterator[Path]:
+    """A folder to write into instead of ``out``; its files move into ``out`` at the end.
+
+    Each file replaces its namesake in ``out`` atomically; files of ``out`` that the new
+    output does not have are kept.
+
+    Yields:
+        The staging folder (empty).
+    """
+    staging = partial_path(out)
+    _remove(staging)  # what a killed run left
+    staging.mkdir(parents=True)
+    try:
+        yield staging
+        out.mkdir(parents=True, exist_ok=True)
+        for path in sorted(staging.rglob("*")):
+            target = out / path.relative_to(staging)
+            if path.is_dir():
+                target.mkdir(parents=True, exist_ok=True)
+            else:
+                os.replace(path, target)
+    finally:
+        _remove(staging)
+
+
+@contextmanager
+def staged_new_folder(out: Path) -> Iterator[Path]:
+    """Where to create the new folder ``out`` (which must not exist): it is renamed to
+    ``out`` when complete. The path yielded has ``out``'s name, for writers that name
+    their files after their folder (rosbag2).
+
+    Yields:
+        A path that does not exist yet, inside a hidden staging folder.
+    """
+    staging = partial_path(out)
+    _remove(staging)
+    staging.mkdir(parents=True)
+    try:
+        yield staging / out.name
+        os.replace(staging / out.name, out)
+    finally:
+        _remove(staging)
+
+
+@contextmanager
+def staged_file(path: Path) -> Iterator[Path]:
+    """Where to write the file ``path``: renamed to ``path`` once the block completes.
+
+    The temporary name keeps ``path``'s suffix, for writers that choose the format by it.
+
+    Yields:
+        The temporary path (absent).
+    """
+    temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
+    _remove(temporary)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        yield temporary
+        os.replace(temporary, path)
+    finally:
+        _remove(temporary)
