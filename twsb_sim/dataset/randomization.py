@@ -34,29 +34,8 @@ from twsb_sim.dataset.environment_ranges import (
     MoverRanges,
     RobotClassWeights,
 )
+from twsb_sim.dataset.ranges_checks import Range, normalize, within
 from twsb_sim.scenario import MAX_VELOCITY_MPS, MAX_YAW_RATE_RAD_S
-
-Range = tuple[float, float]
-
-
-def _normalize(config: Any) -> None:
-    """Turn every scalar given for a range into ``(value, value)`` and check the order."""
-    for f in dataclasses.fields(config):
-        value = getattr(config, f.name)
-        if "Range" not in str(f.type):
-            continue
-        if isinstance(value, int | float) and not isinstance(value, bool):
-            value = (float(value), float(value))
-            object.__setattr__(config, f.name, value)
-        low, high = value
-        if not low <= high:
-            raise ValueError(f"{f.name}: expected [low, high] with low <= high, got {list(value)}")
-
-
-def _within(name: str, value: Range | float, low: float, high: float) -> None:
-    values = value if isinstance(value, tuple) else (value,)
-    if not all(low <= v <= high for v in values):
-        raise ValueError(f"{name}: expected values in [{low:g}, {high:g}], got {value}")
 
 
 @dataclass(frozen=True)
@@ -66,8 +45,8 @@ class EpisodeRanges:
     duration_s: Range | float = (20.0, 40.0)  # s of simulated time (10 scans per s)
 
     def __post_init__(self) -> None:
-        _normalize(self)
-        _within("duration_s", self.duration_s, 1.0, 3600.0)
+        normalize(self)
+        within("duration_s", self.duration_s, 1.0, 3600.0)
 
 
 @dataclass(frozen=True)
@@ -78,8 +57,8 @@ class HouseRanges:
     reversed_start_probability: float = 0.5  # start facing the other way along the lane
 
     def __post_init__(self) -> None:
-        _within("named_fraction", self.named_fraction, 0.0, 1.0)
-        _within("reversed_start_probability", self.reversed_start_probability, 0.0, 1.0)
+        within("named_fraction", self.named_fraction, 0.0, 1.0)
+        within("reversed_start_probability", self.reversed_start_probability, 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -107,11 +86,11 @@ class MotionRanges:
     min_drive_m: float = 0.4  # m, shortest drive
 
     def __post_init__(self) -> None:
-        _normalize(self)
+        normalize(self)
         for name in ("cruise_velocity_mps", "reverse_velocity_mps"):
-            _within(name, getattr(self, name), 0.05, MAX_VELOCITY_MPS)
+            within(name, getattr(self, name), 0.05, MAX_VELOCITY_MPS)
         for name in ("acceleration_mps2", "braking_mps2"):
-            _within(name, getattr(self, name), 0.05, 50.0)
+            within(name, getattr(self, name), 0.05, 50.0)
         for name in (
             "hard_stop_probability",
             "reversal_probability",
@@ -120,17 +99,17 @@ class MotionRanges:
             "turnabout_probability",
             "pause_probability",
         ):
-            _within(name, getattr(self, name), 0.0, 1.0)
+            within(name, getattr(self, name), 0.0, 1.0)
         if self.turn_probability + self.pause_probability > 1.0:
             raise ValueError(
                 "turn_probability: turn_probability + pause_probability must be <= 1, got "
                 f"{self.turn_probability + self.pause_probability:g}"
             )
-        _within("turn_rate_rad_s", self.turn_rate_rad_s, 0.05, MAX_YAW_RATE_RAD_S)
-        _within("turn_angle_deg", self.turn_angle_deg, 1.0, 360.0)
-        _within("pause_s", self.pause_s, 0.05, 60.0)
-        _within("lane_margin_m", self.lane_margin_m, 0.0, 5.0)
-        _within("min_drive_m", self.min_drive_m, 0.05, 20.0)
+        within("turn_rate_rad_s", self.turn_rate_rad_s, 0.05, MAX_YAW_RATE_RAD_S)
+        within("turn_angle_deg", self.turn_angle_deg, 1.0, 360.0)
+        within("pause_s", self.pause_s, 0.05, 60.0)
+        within("lane_margin_m", self.lane_margin_m, 0.0, 5.0)
+        within("min_drive_m", self.min_drive_m, 0.05, 20.0)
 
 
 @dataclass(frozen=True)
@@ -163,24 +142,24 @@ class ShoveRanges:
     turning_probability: float = 0.5  # a turn in place carries a shove (x probability)
 
     def __post_init__(self) -> None:
-        _normalize(self)
-        _within("probability", self.probability, 0.0, 1.0)
-        _within("sideways_fraction", self.sideways_fraction, 0.0, 1.0)
-        _within("longitudinal_force_n", self.longitudinal_force_n, 0.0, 500.0)
-        _within("lateral_force_n", self.lateral_force_n, 0.0, 500.0)
-        _within("duration_s", self.duration_s, 0.01, 5.0)
-        _within("height_m", self.height_m, 0.01, 1.0)
-        _within("max_angular_impulse_n_m_s", self.max_angular_impulse_n_m_s, 0.0, 100.0)
-        _within(
+        normalize(self)
+        within("probability", self.probability, 0.0, 1.0)
+        within("sideways_fraction", self.sideways_fraction, 0.0, 1.0)
+        within("longitudinal_force_n", self.longitudinal_force_n, 0.0, 500.0)
+        within("lateral_force_n", self.lateral_force_n, 0.0, 500.0)
+        within("duration_s", self.duration_s, 0.01, 5.0)
+        within("height_m", self.height_m, 0.01, 1.0)
+        within("max_angular_impulse_n_m_s", self.max_angular_impulse_n_m_s, 0.0, 100.0)
+        within(
             "max_sideways_angular_impulse_n_m_s",
             self.max_sideways_angular_impulse_n_m_s,
             0.0,
             100.0,
         )
-        _within("displacement_m_per_n_s", self.displacement_m_per_n_s, 0.0, 1.0)
-        _within("impulse_fraction", self.impulse_fraction, 0.0, 2.0)
-        _within("braking_probability", self.braking_probability, 0.0, 1.0)
-        _within("turning_probability", self.turning_probability, 0.0, 1.0)
+        within("displacement_m_per_n_s", self.displacement_m_per_n_s, 0.0, 1.0)
+        within("impulse_fraction", self.impulse_fraction, 0.0, 2.0)
+        within("braking_probability", self.braking_probability, 0.0, 1.0)
+        within("turning_probability", self.turning_probability, 0.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -195,13 +174,13 @@ class RobotRanges:
     aggressiveness: Range | float = (0.5, 2.0)  # LQR weight scale, drawn log-uniform
 
     def __post_init__(self) -> None:
-        _normalize(self)
-        _within("lidar_height_m", self.lidar_height_m, 0.15, 1.0)
-        _within("body_mass_kg", self.body_mass_kg, 0.5, 50.0)
-        _within("com_height_offset_m", self.com_height_offset_m, -0.2, 0.3)
-        _within("floor_friction", self.floor_friction, 0.05, 3.0)
-        _within("range_noise_std_m", self.range_noise_std_m, 0.0, 1.0)
-        _within("aggressiveness", self.aggressiveness, 0.01, 100.0)
+        normalize(self)
+        within("lidar_height_m", self.lidar_height_m, 0.15, 1.0)
+        within("body_mass_kg", self.body_mass_kg, 0.5, 50.0)
+        within("com_height_offset_m", self.com_height_offset_m, -0.2, 0.3)
+        within("floor_friction", self.floor_friction, 0.05, 3.0)
+        within("range_noise_std_m", self.range_noise_std_m, 0.0, 1.0)
+        within("aggressiveness", self.aggressiveness, 0.01, 100.0)
 
 
 @dataclass(frozen=True)
@@ -222,13 +201,13 @@ class SensorRanges:
     wheel_radius_error: Range | float = (-0.01, 0.01)  # believed / true radius - 1, per wheel
 
     def __post_init__(self) -> None:
-        _normalize(self)
-        _within("lidar_tilt_deg", self.lidar_tilt_deg, 0.0, 10.0)
-        _within("lidar_offset_x_m", self.lidar_offset_x_m, -0.15, 0.15)
-        _within("range_noise_fraction", self.range_noise_fraction, 0.0, 1.0)
-        _within("dropout_probability", self.dropout_probability, 0.0, 1.0)
-        _within("imu_error_scale", self.imu_error_scale, 0.0, 100.0)
-        _within("wheel_radius_error", self.wheel_radius_error, -0.2, 0.2)
+        normalize(self)
+        within("lidar_tilt_deg", self.lidar_tilt_deg, 0.0, 10.0)
+        within("lidar_offset_x_m", self.lidar_offset_x_m, -0.15, 0.15)
+        within("range_noise_fraction", self.range_noise_fraction, 0.0, 1.0)
+        within("dropout_probability", self.dropout_probability, 0.0, 1.0)
+        within("imu_error_scale", self.imu_error_scale, 0.0, 100.0)
+        within("wheel_radius_error", self.wheel_radius_error, -0.2, 0.2)
 
 
 @dataclass(frozen=True)
