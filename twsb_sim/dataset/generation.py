@@ -21,7 +21,6 @@ import os
 import sys
 import time
 from collections.abc import Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,7 +40,7 @@ from twsb_sim.dataset.store import (
     write_atomic,
     write_metadata,
 )
-from twsb_sim.dataset.workers import init_worker
+from twsb_sim.dataset.workers import map_unordered
 
 FALLEN_EPISODES_RULE = "kept: cut at the fall and flagged (fell, end_reason) in the summary"
 # the controller design library takes about a second to import: import it once, before
@@ -184,29 +183,10 @@ def generate(
 def _run_in_pool(
     workers: int, settings: GenerationSettings, episodes: list[int]
 ) -> Iterator[EpisodeOutput]:
-    """Episodes from a local process pool, as they finish (a bounded number in flight)."""
-    pool = ProcessPoolExecutor(
-        max_workers=workers,
-        mp_context=_worker_context(),
-        initializer=init_worker,  # workers die with this process, and leave Ctrl-C to it
-        initargs=(os.getpid(),),
-    )
-    queue = iter(episodes)
-    running = {pool.submit(episode_task, settings, k) for k in _take(queue, 2 * workers)}
-    try:
-        while running:
-            finished, running = wait(running, return_when=FIRST_COMPLETED)
-            for future in finished:
-                yield future.result()
-                running |= {pool.submit(episode_task, settings, k) for k in _take(queue, 1)}
-    except BaseException:
-        # interrupted (Ctrl-C, SIGTERM, the caller stopped early): the episodes in flight
-        # are dropped, not waited for; the finished ones are already on disk
-        for process in list(getattr(pool, "_processes", {}).values()):
-            process.terminate()
-        pool.shutdown(wait=True, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
+    """Episodes from local worker processes, as they finish. Interrupted (Ctrl-C,
+    SIGTERM, the caller stopped early), the episodes in flight are dropped, not waited
+    for; the finished ones are already on disk."""
+    return map_unordered(episode_task, settings, episodes, workers, _worker_context())
 
 
 def _worker_context() -> multiprocessing.context.BaseContext:
