@@ -30,6 +30,7 @@ from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
+from pvfilter.improved.scoring import line_pitch
 from pvfilter.improved.segmentation import segment_scan
 from pvfilter.improved.sweep import deskew, unstretch
 from pvfilter.scan import Scan
@@ -116,6 +117,9 @@ class ImprovedPitchVariationFilter:
         detection = detect_lines(
             scan, points, segments, new, attitude, self.params, match.step, fresh or coast, static
         )
+        # check the IMU's estimate against the scan's confident floor line, if any
+        if attitude is not None and not (fresh or coast):
+            self._attitude.check(line_pitch(segments, detection.segment_scores, self.params))
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
         if not coast:

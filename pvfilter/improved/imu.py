@@ -6,17 +6,41 @@ milliseconds more. So the pitch of the scan plane is taken to lie within
 ``imu_angle_error_deg`` plus the pitch rate times ``IMU_TIMING_S`` of the estimate: a
 fast pitch change widens the band, a steady tilt keeps it narrow. The rate comes from
 consecutive estimates.
+
+Estimators and mounts can be worse than that: a complementary filter leans toward the
+apparent gravity while the robot accelerates (``atan(a / g)``: 3 deg at 0.5 m/s^2) and
+lags a fast pitch by more than its nominal delay, and a LiDAR mounted a degree off
+pitches its plane a degree away from the body. So the scans check the IMU: each
+confident floor line (:func:`pvfilter.improved.scoring.line_pitch`) puts the plane at a
+pitch of its own, and the band is at least ``IMU_CHECK_FACTOR`` times the
+``IMU_CHECK_QUANTILE`` quantile of how far the estimate was from the latest
+``IMU_CHECK_LINES`` such lines. A good IMU keeps its
+narrow band; a poor one widens it until the scans decide, so an IMU that is off never
+vetoes a floor line the scans show. The error is not taken as an offset to correct: an
+estimator that lags is off one way while the robot pitches nose down and the other way
+nose up. Wrong lines among the confident ones (a wall taken for the floor) are a minority
+the quantile passes over.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+from collections import deque
+
+import numpy as np
 
 from pvfilter.improved.params import ImprovedParams
 
 IMU_TIMING_S = 0.1  # s: how far a beam's time may be from the estimate's (the estimator's
 # lag of tens of ms, and half a scan)
+IMU_CHECK_LINES = 24  # the latest confident floor lines the estimate is checked against
+IMU_CHECK_MIN_LINES = 4  # before this many lines, the band is the default
+IMU_CHECK_MAX_RATE = 0.5  # rad/s: lines seen while the estimate changes faster are not
+# compared (the rate's own widening of the band covers the lag then)
+IMU_CHECK_QUANTILE = 0.8  # the differences seen are measured by this quantile of their size
+IMU_CHECK_FACTOR = 1.5  # the band is this many times that quantile: about 2.5 standard
+# deviations of normal differences (a veto must hold for nearly all of them)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -50,7 +74,8 @@ class Attitude:
 
 
 class AttitudeTrack:
-    """The IMU's estimates scan after scan, for their rate.
+    """The IMU's estimates scan after scan, for their rate, checked against the scans'
+    floor lines (see the module docstring).
 
     Args:
         params: ``imu_angle_error_deg`` is used.
@@ -61,9 +86,12 @@ class AttitudeTrack:
         self.reset()
 
     def reset(self) -> None:
-        """Forget the previous estimate."""
-        self.previous: tuple[float, float] | None = None  # (stamp s, pitch rad)
+        """Forget the previous estimate and what the scans showed of the IMU's error."""
+        self.previous: tuple[float, float] | None = None  # (stamp s, pitch rad) as given
         self.current: Attitude | None = None  # the latest scan's
+        self.rate_rad_s = 0.0  # the latest estimate's rate of change
+        self.differences: deque[float] = deque(maxlen=IMU_CHECK_LINES)  # line - estimate, rad
+        self.learned_rad = 0.0  # the band the differences call for
 
     def update(self, attitude: tuple[float, float] | None, stamp: float) -> Attitude | None:
         """The attitude for the scan at ``stamp`` (None without an IMU)."""
@@ -71,10 +99,28 @@ class AttitudeTrack:
             self.previous = self.current = None
             return None
         pitch, roll = attitude
-        rate = 0.0
+        rate = self.rate_rad_s = 0.0
         if self.previous is not None and stamp > self.previous[0]:
-            rate = (pitch - self.previous[1]) / (stamp - self.previous[0])
+            rate = self.rate_rad_s = (pitch - self.previous[1]) / (stamp - self.previous[0])
         self.previous = (stamp, pitch)
-        error = math.radians(self.params.imu_angle_error_deg) + abs(rate) * IMU_TIMING_S
-        self.current = Attitude(pitch, roll, error)
+        default = math.radians(self.params.imu_angle_error_deg)
+        band = max(default, self.learned_rad)
+        self.current = Attitude(pitch, roll, band + abs(rate) * IMU_TIMING_S)
         return self.current
+
+    def check(self, line_pitch_rad: float | None) -> None:
+        """Compare the latest estimate with the pitch the scan's confident floor line puts
+        the plane at (None: the scan has none). A line on the up side of a plane the IMU
+        shows tilted may be the ceiling, and is passed over."""
+        current = self.current
+        if line_pitch_rad is None or current is None or self.previous is None:
+            return
+        if current.tilted and line_pitch_rad * current.down_side < 0.0:
+            return
+        if abs(self.rate_rad_s) > IMU_CHECK_MAX_RATE:
+            return
+        self.differences.append(line_pitch_rad - self.previous[1])
+        if len(self.differences) >= IMU_CHECK_MIN_LINES:
+            differences = np.abs(np.fromiter(self.differences, float))
+            size = float(np.quantile(differences, IMU_CHECK_QUANTILE))
+            self.learned_rad = IMU_CHECK_FACTOR * size

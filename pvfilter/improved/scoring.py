@@ -25,8 +25,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
 5. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
    error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
    independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
-   explain (a floor line nearer than its tilt allows) is weighted like a line on the up
-   side.
+   explain (a floor line nearer than its tilt allows, where the IMU does not show the
+   plane tilted down on that side) is weighted like a line on the up side. The IMU's band
+   widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
 
 The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
 """
@@ -45,6 +46,7 @@ from pvfilter.improved.imu import Attitude
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
+CONFIDENT_SCORE = 0.8  # 1: the scan's own score of a line the IMU is checked against
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 
@@ -61,6 +63,7 @@ class SegmentScores:
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
+        scan_scores: per segment, the score from the scan alone (before the IMU's cue).
     """
 
     scores: np.ndarray
@@ -70,6 +73,7 @@ class SegmentScores:
     tilt_rad: np.ndarray
     down_side: int
     down_tilt_rad: float = math.nan
+    scan_scores: np.ndarray | None = None
 
 
 def geometry_gates(
@@ -144,11 +148,30 @@ def score_segments(
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
         score *= params.up_side_weight
+    scan_score = score.copy()
     if attitude is not None:
         agree, contradict = _imu_agreement(segments, side, tilt, attitude, params)
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - IMU_SUPPORT), score)
         score[contradict] *= params.up_side_weight
-    return SegmentScores(score, gates, share, new_counts, tilt, down, down_tilt)
+    return SegmentScores(score, gates, share, new_counts, tilt, down, down_tilt, scan_score)
+
+
+def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:
+    """The pitch (rad, positive nose down) at which the scan's strongest confident line is
+    the floor: the gated segment with the most new points, at least ``down_side_min_new``
+    of them, that the scan alone scores at least ``CONFIDENT_SCORE`` (a whole line, new,
+    not fixed in the world, nothing beyond it); None if there is none. The IMU's estimate
+    is checked against it (:mod:`pvfilter.improved.imu`)."""
+    if scores.scan_scores is None:
+        return None
+    confident = scores.gates & (scores.scan_scores >= CONFIDENT_SCORE)
+    if not confident.any():
+        return None
+    strength = np.where(confident, scores.new_counts, 0.0)
+    strongest = int(np.argmax(strength))
+    if strength[strongest] < params.down_side_min_new:
+        return None
+    return float(np.sign(segments.centroids[strongest, 0]) * scores.tilt_rad[strongest])
 
 
 def _world_static_share(segments: Segments, scored: np.ndarray, static: WorldStatic) -> np.ndarray:
@@ -195,11 +218,11 @@ def _imu_agreement(
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
     (a floor there would need more tilt than the IMU's band allows)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
-    on_floor = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
-    ceiling = np.zeros(len(segments), dtype=bool)
-    if attitude.tilted:
+    agree = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
+    if attitude.tilted:  # else the IMU cannot tell a tilted plane from a level one
         far = segments.distances >= ceiling_min_distance(magnitude + error, params)
-        ceiling = (side == -attitude.down_side) & far
-    agree = on_floor | ceiling
-    contradict = tilt > magnitude + error
+        agree |= (side == -attitude.down_side) & far
+    # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane
+    # tilted down on the line's side, the floor is there and only its distance is in doubt
+    contradict = (tilt > magnitude + error) & ~(attitude.tilted & (side == attitude.down_side))
     return agree, contradict & ~agree

@@ -120,6 +120,24 @@ def test_the_imu_option_supports_the_predicted_floor():
     assert precision(removed, positive) > 0.97
 
 
+def test_an_imu_far_off_the_floor_lines_cannot_veto_them_for_long():
+    # the robot leans 6 deg for 1.6 s while its estimator says 1.5 deg (a complementary
+    # filter fooled by the acceleration): the first lines look impossible to the IMU,
+    # then the scans' confident lines widen its band and the line is removed again
+    def lean(k):
+        return math.radians(6.0) * min(max(k - 9, 0), 3) / 3 if k < 28 else 0.0
+
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    recall = []
+    for k in range(28):
+        scan, on_floor = room_scan((1.3, 0.0, 0.0), lean(k), stamp=0.1 * k, seed=k)
+        result = pvf.process(scan, pitch_rad=math.radians(1.5) if lean(k) else 0.0)
+        if on_floor.any():
+            recall.append((result.removed & on_floor).sum() / on_floor.sum())
+    assert len(recall) >= 16 and min(recall[-10:]) >= 0.9, np.round(recall, 2)
+
+
 def test_a_biased_lagging_imu_does_not_turn_walls_into_floor():
     # the IMU reads 1.5 deg nose down while the robot drives level: no floor line is
     # anywhere near (h / sin 1.5 deg is 9.5 m), and nothing is removed

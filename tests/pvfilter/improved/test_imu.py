@@ -1,11 +1,18 @@
-"""The IMU input: its error band widens with the pitch rate; which side is down."""
+"""The IMU input: its error band widens with the pitch rate and where the scans show it off;
+which side is down."""
 
 import math
 
 import pytest
 
 from pvfilter.improved import ImprovedParams
-from pvfilter.improved.imu import IMU_TIMING_S, AttitudeTrack
+from pvfilter.improved.imu import (
+    IMU_CHECK_FACTOR,
+    IMU_CHECK_LINES,
+    IMU_CHECK_MIN_LINES,
+    IMU_TIMING_S,
+    AttitudeTrack,
+)
 
 PARAMS = ImprovedParams()
 BASE = math.radians(PARAMS.imu_angle_error_deg)
@@ -27,3 +34,42 @@ def test_no_imu_gives_no_attitude_and_forgets_the_rate():
     track.update((0.2, 0.0), 0.0)
     assert track.update(None, 0.1) is None and track.current is None
     assert track.update((0.0, 0.0), 0.2).error_rad == pytest.approx(BASE)
+
+
+def test_a_good_imu_keeps_its_narrow_band_against_floor_lines_that_agree():
+    track = AttitudeTrack(PARAMS)
+    for k in range(IMU_CHECK_LINES):
+        pitch = 0.15 + 0.001 * k  # a slow, steady tilt
+        track.update((pitch, 0.0), 0.1 * k)
+        track.check(pitch + math.radians(0.5) * (-1) ** k)  # lines within half a degree
+    assert track.current.error_rad == pytest.approx(BASE + 0.01 * IMU_TIMING_S)
+
+
+def test_an_imu_that_is_off_widens_its_band_so_it_cannot_veto_the_lines():
+    # an estimator 4 deg short of the floor lines (lag, a mount off by a degree): after
+    # IMU_CHECK_MIN_LINES lines its band covers them
+    track = AttitudeTrack(PARAMS)
+    off = math.radians(4.0)
+    for k in range(IMU_CHECK_MIN_LINES):
+        track.update((0.10, 0.0), 0.1 * k)
+        assert track.current.error_rad == pytest.approx(BASE)
+        track.check(0.10 + off)
+    attitude = track.update((0.10, 0.0), 1.0)
+    assert attitude.error_rad == pytest.approx(IMU_CHECK_FACTOR * off)
+    assert attitude.pitch_rad == 0.10  # not corrected: a lag is off either way
+
+
+def test_lines_seen_while_the_estimate_changes_fast_or_on_the_up_side_are_not_compared():
+    track = AttitudeTrack(PARAMS)
+    track.update((0.0, 0.0), 0.0)
+    for k in range(1, 2 * IMU_CHECK_MIN_LINES):
+        fast = (-1) ** k * 0.1  # +-2 rad/s: the rate's own band covers the lag
+        track.update((fast, 0.0), 0.1 * k)
+        track.check(fast + 0.2)
+    assert not track.differences
+    track.update((0.2, 0.0), 2.0)
+    track.update((0.2, 0.0), 2.1)  # tilted nose down: the floor ahead
+    track.check(-0.1)  # a line behind: the ceiling, perhaps
+    assert not track.differences
+    track.check(None)  # no confident line
+    assert not track.differences

@@ -9,7 +9,7 @@ import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.imu import Attitude
-from pvfilter.improved.scoring import IMU_SUPPORT, score_segments
+from pvfilter.improved.scoring import IMU_SUPPORT, line_pitch, score_segments
 from pvfilter.synthetic import room_segments
 
 from .conftest import HEIGHT_M, tilted_scan
@@ -84,6 +84,23 @@ def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_
     level = Attitude(0.0, 0.0, math.radians(2.0))  # the robot is level: no floor at 1.44 m
     _, result = scored(floor, attitude=level)
     assert result.scores[0] == pytest.approx(PARAMS.up_side_weight)
+    # the IMU shows the plane tilted nose down by 5 deg, the line needs 10: the floor is
+    # ahead and only its distance is in doubt (a lagging estimate): neither cue
+    lagging = Attitude(math.radians(5.0), 0.0, math.radians(2.0))
+    _, result = scored(floor, attitude=lagging)
+    assert result.scores[0] == pytest.approx(1.0)
+    assert result.scan_scores[0] == pytest.approx(1.0)
+
+
+def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against():
+    # h / sin(pitch) from the sensor: ahead for nose down, behind (negative) for nose up
+    for pitch in (math.radians(10.0), math.radians(-6.0)):
+        x = math.copysign(HEIGHT_M / math.sin(abs(pitch)), pitch)
+        segments, result = scored(line(x, -1.5, x, 1.5, 60))
+        assert line_pitch(segments, result, PARAMS) == pytest.approx(pitch, abs=1e-3)
+    weak = line(2.0, -1.5, 2.0, 1.5, 60)
+    segments, result = scored(weak, new=np.arange(60) < 30)  # half new: not confident
+    assert line_pitch(segments, result, PARAMS) is None
 
 
 class Told:
