@@ -169,8 +169,8 @@ class RobotHandles:
         a = self.qpos_adr
         b = self.qvel_adr
         qw, qx, qy, qz = data.qpos[a + 3 : a + 7].tolist()
-        vx, vy, _, _, wy, wz = data.qvel[b : b + 6].tolist()
-        qvel = data.qvel
+        qvel = data.qvel.tolist()  # one conversion: cheaper than a slice and two .item()
+        vx, vy, _, _, wy, wz = qvel[b : b + 6]
         # ZYX (yaw, pitch, roll) angles of the body frame
         sin_pitch = 2.0 * (qw * qy - qx * qz)
         sin_pitch = 1.0 if sin_pitch > 1.0 else (-1.0 if sin_pitch < -1.0 else sin_pitch)
@@ -190,8 +190,8 @@ class RobotHandles:
             yaw,
             yaw_rate,
             roll,
-            qvel[self.wheel_qvel_adr[0]].item(),
-            qvel[self.wheel_qvel_adr[1]].item(),
+            qvel[self.wheel_qvel_adr[0]],
+            qvel[self.wheel_qvel_adr[1]],
         )
 
     def read_imu(self, data: mujoco.MjData) -> tuple[list[float], list[float], list[float]]:
