@@ -22,8 +22,10 @@ from typing import Any
 
 import numpy as np
 
+from pvfilter import ROBOT_INPUTS
 from pvfilter.io import PER_SCAN_KEYS
 from twsb_sim.frame import Frame, truth_arrays
+from twsb_sim.robot_inputs import robot_inputs
 from twsb_sim.summary import RunSummary
 
 FRAME_ARRAYS = {
@@ -35,6 +37,9 @@ FRAME_ARRAYS = {
     "truth_<field>": "one array per RobotTruth field, e.g. truth_pitch_rad float64[K]",
     "sensor_<field>": "the robot's sensors at each stamp: sensor_attitude_rpy_rad [K, 3], "
     "sensor_pose_base_in_odom [K, 3], sensor_pose_lidar_in_odom [K, 3], sensor_twist [K, 2]",
+    "pitch_rad, roll_rad, pose_sensor_in_odom": "the robot inputs a filter receives, under the "
+    "names the pvfilter command reads: float64[K] attitude estimate (rad), float64[K, 3] LiDAR "
+    "pose from the wheel odometry (x m, y m, yaw rad)",
     "imu_samples": "float64[N, 10]: arrival s, gyro xyz rad/s, accel xyz m/s², estimate rpy rad",
     "odometry_samples": "float64[M, 6]: stamp s, x m, y m, yaw rad (odom), v m/s, w rad/s",
     "imu_samples_per_frame, odometry_samples_per_frame": "int64[K]: how many arrived per frame",
@@ -106,6 +111,9 @@ class FrameWriter:
                                     r.imu.rpy_rad)) for r in with_sensors]  # fmt: skip
             odom = [np.column_stack((r.odometry.stamps_s, r.odometry.pose_odom,
                                      r.odometry.twist)) for r in with_sensors]  # fmt: skip
+            inputs = [robot_inputs(f, ROBOT_INPUTS) for f in self._frames]
+            for name in ROBOT_INPUTS:  # so `pvfilter frames.npz` runs any filter on them
+                arrays[name] = np.array([i[name] for i in inputs], dtype=np.float64)
             arrays["imu_samples"] = np.vstack(imu)
             arrays["imu_samples_per_frame"] = np.array([len(b) for b in imu])
             arrays["odometry_samples"] = np.vstack(odom)
