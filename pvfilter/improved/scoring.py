@@ -40,6 +40,7 @@ import math
 import numpy as np
 
 from pvfilter.improved.beams import indices
+from pvfilter.improved.claims import spread_claims
 from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.geometry import ceiling_min_distance, implied_tilt, lean_ok, seen_beyond
 from pvfilter.improved.imu import Attitude
@@ -136,7 +137,8 @@ def score_segments(
     gates = geometry_gates(segments, tilt, time_increment, params)
     score = np.where(gates, share, 0.0)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
-        score *= np.minimum(np.sqrt(12.0 * segments.spread_along) / params.line_length_m, 1.0)
+        length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
+        score *= np.minimum(length / params.line_length_m, 1.0)
     if static is not None and score.any():
         score *= 1.0 - _world_static_share(segments, score > 0.0, static)
     # nothing lies beyond a floor line: returns there show a wall beside open space
@@ -172,6 +174,28 @@ def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams
     if strength[strongest] < params.down_side_min_new:
         return None
     return float(np.sign(segments.centroids[strongest, 0]) * scores.tilt_rad[strongest])
+
+
+def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams) -> np.ndarray:
+    """Per segment: the length of its line, m: its own (``sqrt(12 var)`` along it), or for
+    a strong line the length of all the scan's points that lie on it, if longer.
+
+    All floor hits of one scan lie on one straight line, so the pieces of it that furniture,
+    a noisy stretch or a cut at a turn of direction separate are one line: its length is
+    theirs together (the points :func:`pvfilter.improved.claims.spread_claims` takes in).
+    """
+    own = np.sqrt(12.0 * segments.spread_along)
+    lines = indices(strong)
+    if lines.size == 0:
+        return own
+    points, line = spread_claims(segments, lines, params)
+    normals = segments.normals[line]
+    along = segments.points[points, 0] * normals[:, 1] - segments.points[points, 1] * normals[:, 0]
+    k = len(segments)
+    count = np.maximum(np.bincount(line, minlength=k), 1)
+    mean = np.bincount(line, along, k) / count
+    variance = np.maximum(np.bincount(line, along * along, k) / count - mean * mean, 0.0)
+    return np.maximum(own, np.sqrt(12.0 * variance))
 
 
 def _world_static_share(segments: Segments, scored: np.ndarray, static: WorldStatic) -> np.ndarray:

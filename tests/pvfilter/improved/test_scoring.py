@@ -56,6 +56,23 @@ def test_a_short_line_scores_in_proportion_to_its_length():
     assert result.scores[0] == pytest.approx(length / PARAMS.line_length_m, rel=1e-6)
 
 
+def test_a_strong_short_piece_takes_the_length_of_the_line_its_collinear_fragments_make():
+    # 0.3 m of new floor line, and 0.8 m of the same line (not new: it runs along the wall
+    # behind it) beyond a gap: one floor line, 1.4 m long, that scores the new piece's share
+    piece = line(2.0, -0.6, 2.0, -0.3, 30)
+    rest = line(2.0, 0.0, 2.0, 0.8, 60)
+    new = np.arange(90) < 30
+    segments, result = scored(piece, rest, new=new)
+    assert segments.labels[0] != segments.labels[30]
+    assert result.scores[at(segments, 0)] == pytest.approx(1.0)
+    assert result.scores[at(segments, 30)] == 0.0
+    # alone (or beside a wall that crosses it) it is a short line
+    wall = line(1.8, 0.0, 2.6, 0.0, 60)
+    for parts in ((piece,), (piece, wall)):
+        segments, result = scored(*parts, new=new[: sum(len(p) for p in parts)])
+        assert result.scores[at(segments, 0)] < 0.6
+
+
 def test_a_line_on_the_up_side_nearer_than_a_ceiling_can_be_is_weighted_down():
     floor = line(1.44, -1.5, 1.44, 1.5, 60)  # the strongest line: 10 deg, floor ahead
     furniture = line(-1.0, -0.5, -1.0, 0.5, 30)  # behind, 1 m: no ceiling that low
