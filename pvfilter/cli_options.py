@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import tomllib
 from typing import Any
 
 import numpy as np
 
+from pvfilter import toml_reader
 from pvfilter.contract import ROBOT_INPUTS
 from pvfilter.paper import FilterParams
 from pvfilter.params_file import load_params
@@ -45,7 +45,7 @@ def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
         fields["clustering"] = args.clustering
     if args.detection_only:
         fields["tracking"] = False
-    fields.update(dict(_setting(text) for text in args.set or ()))
+    fields.update(dict(setting(text) for text in args.set or ()))
     if args.threaded and entry.name != "paper":
         raise ValueError(f"--threaded: the two-thread form is the paper filter's, not {entry.name}")
     if fields:
@@ -89,13 +89,14 @@ def robot_inputs(arrays: dict[str, np.ndarray], count: int, source: str) -> list
     return per_scan
 
 
-def _setting(text: str) -> tuple[str, Any]:
-    """``NAME=VALUE`` of ``--set``; the value read as TOML (``0.5``, ``true``, ``"radius"``)."""
-    name, sep, value = text.partition("=")
+def setting(text: str) -> tuple[str, Any]:
+    """``NAME=VALUE`` of ``--set``; the value read as TOML (``0.5``, ``true``, ``"radius"``;
+    a bare word is a string).
+
+    Raises:
+        ValueError: text without ``=`` or a name.
+    """
+    name, sep, text_value = text.partition("=")
     if not sep or not name.strip():
         raise ValueError(f"--set: expected NAME=VALUE, got {text!r}")
-    try:
-        parsed = tomllib.loads(f"v = {value.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
-        parsed = value.strip()  # a bare word: a string
-    return name.strip().replace("-", "_"), parsed
+    return name.strip().replace("-", "_"), toml_reader.value(text_value)
