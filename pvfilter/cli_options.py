@@ -15,12 +15,35 @@ import numpy as np
 
 from pvfilter import toml_reader
 from pvfilter.contract import ROBOT_INPUTS
-from pvfilter.paper import FilterParams
+from pvfilter.paper import CLUSTERING_MODES, FilterParams
 from pvfilter.params_file import load_params
 from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
 
 # the paper's Table I symbols are flags of their own (--d-th ...); the others are switches
 SYMBOLS = [f for f in dataclasses.fields(FilterParams) if type(f.default) in (int, float)]
+
+
+def add_filter_options(parser: argparse.ArgumentParser) -> None:
+    """The options that choose a filter and its parameters (shared by the commands)."""
+    parser.add_argument("--filter", metavar="NAME", help="the filter to run (default: paper)")
+    parser.add_argument("--improved", action="store_true", help="short for --filter improved")
+    parser.add_argument("--params", metavar="FILE", help="a parameter file (names its filter)")
+    parser.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
+    )
+    for field in SYMBOLS:
+        parser.add_argument(
+            f"--{field.name.replace('_', '-')}",
+            dest=field.name,
+            type=type(field.default),
+            help=f"{field.name} (paper's Table I: {field.default})",
+        )
+    parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="paper: BFS neighbourhood")
+    parser.add_argument("--detection-only", action="store_true", help="paper: no tracking")
+    parser.add_argument(
+        "--lidar-height", type=float, metavar="M", help="the scan plane's height above the floor, m"
+    )
+    parser.set_defaults(threaded=False)
 
 
 def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
