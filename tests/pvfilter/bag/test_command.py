@@ -95,11 +95,10 @@ def test_the_filtered_scans_are_the_filter_s(exported, tmp_path, name):
 
 def test_robot_inputs_are_what_the_simulator_gave_its_filter(exported):
     """Attitude and LiDAR pose read from the bag match the data set's, scan by scan."""
-    from twsb_sim.dataset.loader import open_dataset
-
     from pvfilter.bag.bagfile import open_reader
     from pvfilter.bag.command import build_parser
     from pvfilter.bag.inputs_pass import read_inputs
+    from twsb_sim.dataset.loader import open_dataset
 
     args = build_parser().parse_args(
         [str(exported[0]), "unused", "--scan-topic", "/scan", "--imu-topic", "/imu",
@@ -183,20 +182,24 @@ def test_an_existing_output_is_replaced_only_with_force(exported, tmp_path, caps
     assert not (out / "keep").exists() and (out / "metadata.yaml").exists()
 
 
-@pytest.mark.parametrize(
-    ("extra", "message"),
-    [
-        ([], "--scan-topic: the bag has 2 LaserScan topics (/scan, /scan/labels); name one"),
-        (["--scan-topic", "/lidar"], "--scan-topic /lidar: not in the bag (its LaserScan topics: /scan, /scan/labels)"),
-        (["--scan-topic", "/scan", "--imu-topic", "/odom"], "--imu-topic /odom: is nav_msgs/msg/Odometry, not sensor_msgs/msg/Imu"),
-        (["--scan-topic", "/imu"], "--scan-topic /imu: is sensor_msgs/msg/Imu, not sensor_msgs/msg/LaserScan"),
-        (["--scan-topic", "/scan", "--filter", "imu_gate"], "filter 'imu_gate' needs pitch_rad, roll_rad: give --imu-topic"),
-        (["--scan-topic", "/scan", "--filtered-topic", "/odom"], "--filtered-topic /odom: the input bag has this topic already"),
-    ],
-)  # fmt: skip
+MISTAKES = {  # options: the error
+    "": "--scan-topic: the bag has 2 LaserScan topics (/scan, /scan/labels); name one",
+    "--scan-topic /lidar": "--scan-topic /lidar: not in the bag "
+    "(its LaserScan topics: /scan, /scan/labels)",
+    "--scan-topic /scan --imu-topic /odom": "--imu-topic /odom: is nav_msgs/msg/Odometry, "
+    "not sensor_msgs/msg/Imu",
+    "--scan-topic /imu": "--scan-topic /imu: is sensor_msgs/msg/Imu, not sensor_msgs/msg/LaserScan",
+    "--scan-topic /scan --filter imu_gate": "filter 'imu_gate' needs pitch_rad, roll_rad: "
+    "give --imu-topic",
+    "--scan-topic /scan --filtered-topic /odom": "--filtered-topic /odom: the input bag has "
+    "this topic already",
+}
+
+
+@pytest.mark.parametrize(("extra", "message"), MISTAKES.items(), ids=list(MISTAKES))
 def test_mistakes_get_one_line_and_no_output(exported, tmp_path, capsys, extra, message):
     out = tmp_path / "out"
-    assert main(["bag", str(exported[0]), str(out), "--quiet", *extra]) == 2
+    assert main(["bag", str(exported[0]), str(out), "--quiet", *extra.split()]) == 2
     err = capsys.readouterr().err
     assert err == f"pvfilter bag: error: {message}\n"
     assert not out.exists() and list(tmp_path.iterdir()) == []
