@@ -35,6 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="pvfilter",
         description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR "
         "scans of an .npz scan file and write the filtered scans, masks and scores.",
+        epilog="Other commands: 'pvfilter bag IN OUT' filters a ROS bag (rosbag2 or ROS 1), "
+        "'pvfilter eval-logs FILE...' counts false alarms on real logs; each has its --help.",
     )
     parser.add_argument("input", nargs="?", help="scan file (.npz: ranges, stamps, LaserScan)")
     parser.add_argument("output", nargs="?", help="the filtered scan file to write (.npz)")
