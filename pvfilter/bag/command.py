@@ -138,7 +138,7 @@ def _write(
             if connection.id not in scan_ids:
                 continue
             message = read_scan(raw, writer.ros1)
-            scan = _scan(message, inputs.scan_topic, progress.done)
+            scan = scan_of(message, inputs.scan_topic, progress.done)
             result = scan_filter.process(scan, **inputs.at(message.stamp_ns))
             removed = np.asarray(result.removed, dtype=bool)
             filtered = np.where(removed, np.float32(np.nan), message.ranges)
@@ -153,7 +153,7 @@ def _write(
     return removed_total, valid_total
 
 
-def _scan(message: object, topic: str, index: int) -> Scan:
+def scan_of(message: object, topic: str, index: int) -> Scan:
     """The filter's scan of a LaserScan message (the filters use no intensities)."""
     fields = message.intrinsics
     try:
