@@ -12,6 +12,8 @@ Every filter is found by name in one registry (:func:`make_filter`, :func:`filte
 :func:`register_filter`); :func:`load_params` reads the parameter files that name them.
 """
 
+__version__ = "0.1.0"  # the robot distribution (packages/pvfilter) reads it from here
+
 from pvfilter.clusters import ClusterSet, ClusterView
 from pvfilter.contract import ROBOT_INPUTS, ScanFilter
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter, ImprovedResult

@@ -1,6 +1,7 @@
 """``pvfilter IN.npz OUT.npz``: run any registered filter over a scan file.
 
-The scan file's layout is documented in :mod:`pvfilter.io`. ``--filter NAME`` picks the
+The scan file's layout is documented in :mod:`pvfilter.io`; ``pvfilter bag IN OUT``
+filters a ROS bag instead (:mod:`pvfilter.bag.command`). ``--filter NAME`` picks the
 filter (``--list`` shows them), ``--params FILE`` reads a parameter file, ``--set
 NAME=VALUE`` and the paper's symbol flags set single parameters. Robot inputs the file
 carries (``pitch_rad``, ``roll_rad``, ``pose_sensor_in_odom``) are passed to the filter,
@@ -18,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from pvfilter.cli_options import SYMBOLS, chosen_filter, robot_geometry, robot_inputs
+from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry, robot_inputs
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
-from pvfilter.paper import CLUSTERING_MODES, ThreadedPitchVariationFilter
+from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
 
 EXIT_USAGE = 2
@@ -34,29 +35,14 @@ def build_parser() -> argparse.ArgumentParser:
         prog="pvfilter",
         description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR "
         "scans of an .npz scan file and write the filtered scans, masks and scores.",
+        epilog="Other commands: 'pvfilter bag IN OUT' filters a ROS bag (rosbag2 or ROS 1), "
+        "'pvfilter eval-logs FILE...' counts false alarms on real logs; each has its --help.",
     )
     parser.add_argument("input", nargs="?", help="scan file (.npz: ranges, stamps, LaserScan)")
     parser.add_argument("output", nargs="?", help="the filtered scan file to write (.npz)")
     parser.add_argument("--list", action="store_true", help="list the registered filters and exit")
-    parser.add_argument("--filter", metavar="NAME", help="the filter to run (default: paper)")
-    parser.add_argument("--improved", action="store_true", help="short for --filter improved")
-    parser.add_argument("--params", metavar="FILE", help="a parameter file (names its filter)")
-    parser.add_argument(
-        "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
-    )
-    for field in SYMBOLS:
-        parser.add_argument(
-            f"--{field.name.replace('_', '-')}",
-            dest=field.name,
-            type=type(field.default),
-            help=f"{field.name} (paper's Table I: {field.default})",
-        )
-    parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="paper: BFS neighbourhood")
-    parser.add_argument("--detection-only", action="store_true", help="paper: no tracking")
+    add_filter_options(parser)
     parser.add_argument("--threaded", action="store_true", help="paper: the two-thread form")
-    parser.add_argument(
-        "--lidar-height", type=float, metavar="M", help="the scan plane's height above the floor, m"
-    )
     parser.add_argument(
         "--scans-only", action="store_true", help="ignore robot inputs the file carries"
     )
@@ -65,12 +51,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command; returns the exit status. ``pvfilter eval-logs ...`` evaluates
-    filters on real logs (:mod:`pvfilter.eval_logs`)."""
+    filters on real logs (:mod:`pvfilter.eval_logs`), ``pvfilter bag IN OUT`` filters a
+    ROS bag (:mod:`pvfilter.bag.command`)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["eval-logs"]:
         from pvfilter.eval_logs import main as eval_logs  # imports the command's own module
 
         return eval_logs(argv[1:])
+    if argv[:1] == ["bag"]:
+        from pvfilter.bag.command import main as bag
+
+        return bag(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.list:

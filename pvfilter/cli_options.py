@@ -9,18 +9,41 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import tomllib
 from typing import Any
 
 import numpy as np
 
+from pvfilter import toml_reader
 from pvfilter.contract import ROBOT_INPUTS
-from pvfilter.paper import FilterParams
+from pvfilter.paper import CLUSTERING_MODES, FilterParams
 from pvfilter.params_file import load_params
 from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
 
 # the paper's Table I symbols are flags of their own (--d-th ...); the others are switches
 SYMBOLS = [f for f in dataclasses.fields(FilterParams) if type(f.default) in (int, float)]
+
+
+def add_filter_options(parser: argparse.ArgumentParser) -> None:
+    """The options that choose a filter and its parameters (shared by the commands)."""
+    parser.add_argument("--filter", metavar="NAME", help="the filter to run (default: paper)")
+    parser.add_argument("--improved", action="store_true", help="short for --filter improved")
+    parser.add_argument("--params", metavar="FILE", help="a parameter file (names its filter)")
+    parser.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
+    )
+    for field in SYMBOLS:
+        parser.add_argument(
+            f"--{field.name.replace('_', '-')}",
+            dest=field.name,
+            type=type(field.default),
+            help=f"{field.name} (paper's Table I: {field.default})",
+        )
+    parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="paper: BFS neighbourhood")
+    parser.add_argument("--detection-only", action="store_true", help="paper: no tracking")
+    parser.add_argument(
+        "--lidar-height", type=float, metavar="M", help="the scan plane's height above the floor, m"
+    )
+    parser.set_defaults(threaded=False)
 
 
 def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
@@ -45,7 +68,7 @@ def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
         fields["clustering"] = args.clustering
     if args.detection_only:
         fields["tracking"] = False
-    fields.update(dict(_setting(text) for text in args.set or ()))
+    fields.update(dict(setting(text) for text in args.set or ()))
     if args.threaded and entry.name != "paper":
         raise ValueError(f"--threaded: the two-thread form is the paper filter's, not {entry.name}")
     if fields:
@@ -89,13 +112,14 @@ def robot_inputs(arrays: dict[str, np.ndarray], count: int, source: str) -> list
     return per_scan
 
 
-def _setting(text: str) -> tuple[str, Any]:
-    """``NAME=VALUE`` of ``--set``; the value read as TOML (``0.5``, ``true``, ``"radius"``)."""
-    name, sep, value = text.partition("=")
+def setting(text: str) -> tuple[str, Any]:
+    """``NAME=VALUE`` of ``--set``; the value read as TOML (``0.5``, ``true``, ``"radius"``;
+    a bare word is a string).
+
+    Raises:
+        ValueError: text without ``=`` or a name.
+    """
+    name, sep, text_value = text.partition("=")
     if not sep or not name.strip():
         raise ValueError(f"--set: expected NAME=VALUE, got {text!r}")
-    try:
-        parsed = tomllib.loads(f"v = {value.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
-        parsed = value.strip()  # a bare word: a string
-    return name.strip().replace("-", "_"), parsed
+    return name.strip().replace("-", "_"), toml_reader.value(text_value)

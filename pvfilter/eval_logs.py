@@ -16,10 +16,10 @@ import argparse
 import dataclasses
 import json
 import sys
-import tomllib
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from pvfilter.cli_options import setting
 from pvfilter.contract import ScanFilter
 from pvfilter.logs import LogReport, evaluate_log, markdown
 from pvfilter.params_file import load_params
@@ -96,15 +96,7 @@ def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:
     entry = entry_for_params(params) if params is not None else filter_entry(args.filter)
     if params is not None and args.filter not in (entry.name, DEFAULT_FILTER):
         raise ValueError(f"{args.params}: holds parameters of {entry.name!r}, not {args.filter!r}")
-    fields = {}
-    for text in args.set or ():
-        name, sep, value = text.partition("=")
-        if not sep or not name.strip():
-            raise ValueError(f"--set: expected NAME=VALUE, got {text!r}")
-        try:
-            fields[name.strip().replace("-", "_")] = tomllib.loads(f"v = {value.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
-            fields[name.strip().replace("-", "_")] = value.strip()
+    fields = dict(setting(text) for text in args.set or ())
     entry.make(params, **fields)  # checks the fields now, before any log is read
     return entry.name, lambda: entry.make(params, **fields)
 

@@ -28,10 +28,10 @@ import dataclasses
 import json
 import math
 import re
-import tomllib
 from pathlib import Path
 from typing import Any
 
+from pvfilter import toml_reader
 from pvfilter.registry import entry_for_params, filter_entry, filter_names
 
 NOTES_TABLE = "tuning"  # how the values were found: for people, not for the loader
@@ -45,8 +45,8 @@ def read_params_file(path: str | Path) -> dict[str, Any]:
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a text file (a parameter file is TOML or JSON)") from None
     try:
-        table = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
-    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as error:
+        table = json.loads(text) if path.suffix.lower() == ".json" else toml_reader.loads(text)
+    except (json.JSONDecodeError, toml_reader.TomlError) as error:
         raise ValueError(f"{path}: not a valid parameter file: {error}") from None
     if not isinstance(table, dict):
         raise ValueError(f"{path}: not a parameter file (expected a table at the top)")

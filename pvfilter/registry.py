@@ -1,9 +1,9 @@
 """Every filter by name: one registry that every command, evaluation and the Gym env use.
 
-The filters of this package are registered here (``paper``, ``improved``); other
-packages register theirs through the ``pvfilter.filters`` entry-point group (the
-baselines of ``scaneval``: ``none``, ``datmo``, ``imu_gate``), and a user registers a
-filter class from Python::
+The filters of this package are registered here (``paper``, ``improved`` and ``none``,
+the pass-through); other packages register theirs through the ``pvfilter.filters``
+entry-point group (the evaluation baselines of ``scaneval``: ``datmo``, ``imu_gate``),
+and a user registers a filter class from Python::
 
     from pvfilter import FilterEntry, register_filter
 
@@ -24,6 +24,7 @@ from typing import Any
 from pvfilter.contract import ScanFilter
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
 from pvfilter.paper import FilterParams, PitchVariationFilter
+from pvfilter.pass_through import NoFilter
 
 ENTRY_POINT_GROUP = "pvfilter.filters"
 # robot geometry a filter's parameters may hold under these names (m); callers that know
@@ -118,6 +119,7 @@ _BUILT_IN = (
         "the paper's Pitch Variation Filter, Table I defaults",
         threshold="p_th",
     ),
+    FilterEntry("none", NoFilter, None, "removes nothing (the reference)"),
 )
 _entries: dict[str, FilterEntry] = {entry.name: entry for entry in _BUILT_IN}
 _plugins_loaded = False

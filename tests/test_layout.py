@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,12 +26,35 @@ def modules(package: str) -> list[Path]:
     return sorted((ROOT / package).rglob("*.py"))
 
 
+# the optional packages pvfilter may use, and the one module that imports each (inside a
+# function or a fallback, never at import time): its extras, not its requirements
+OPTIONAL_IN_PVFILTER = {"rosbags": "bag/bagfile.py", "tomli": "toml_reader.py"}
+
+
 def test_pvfilter_needs_numpy_and_scipy_only():
     allowed = {"numpy", "scipy", "pvfilter"}
     for path in modules("pvfilter"):
         for module, _ in imports(path):
             top = module.split(".")[0]
+            if top in OPTIONAL_IN_PVFILTER:
+                where = path.relative_to(ROOT / "pvfilter").as_posix()
+                assert where == OPTIONAL_IN_PVFILTER[top], f"{where} imports {module}"
+                continue
             assert top in allowed or not _third_party(top), f"{path.name} imports {module}"
+
+
+def test_pvfilter_imports_without_its_optional_packages():
+    blocked = "; ".join(f"sys.modules[{name!r}] = None" for name in OPTIONAL_IN_PVFILTER)
+    code = (
+        f"import sys; {blocked}; import pvfilter, pvfilter.cli, pvfilter.bag.command; "
+        "print(sorted(m for m, v in sys.modules.items() "
+        "if v and m.split('.')[0] in ('rosbags', 'tomli')))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
 
 
 def test_the_two_filters_are_siblings_that_do_not_import_each_other():
@@ -63,6 +88,4 @@ def test_no_module_imports_another_module_s_private_names():
 
 
 def _third_party(top: str) -> bool:
-    import sys
-
     return top not in sys.stdlib_module_names

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from importlib import metadata
 
 import numpy as np
 import pytest
@@ -24,7 +25,7 @@ from pvfilter import (
 )
 from pvfilter.cli import main as pvfilter_main
 from pvfilter.io import arrays_from_scans
-from pvfilter.registry import unregister_filter
+from pvfilter.registry import ENTRY_POINT_GROUP, unregister_filter
 from pvfilter.synthetic import room_sequence
 
 
@@ -58,7 +59,12 @@ def far_filter():
 
 
 def test_both_filters_and_the_baselines_are_registered():
-    assert {"paper", "improved", "none", "datmo", "imu_gate"} <= set(filter_names())
+    # the evaluation baselines come with the simulator's distribution (its entry points);
+    # a robot install of pvfilter alone has its own three filters
+    declared = {point.name for point in metadata.entry_points(group=ENTRY_POINT_GROUP)}
+    assert {"paper", "improved", "none"} | declared <= set(filter_names())
+    if "twsb-pvfilter" in {d.metadata["Name"] for d in metadata.distributions()}:
+        assert {"datmo", "imu_gate"} <= declared, "the root distribution declares the baselines"
     assert isinstance(make_filter("paper"), PitchVariationFilter)
     assert isinstance(make_filter("improved"), ImprovedPitchVariationFilter)
     for name in filter_names():

@@ -1,0 +1,7 @@
+"""``pvfilter bag``: filter the LaserScan topic of a ROS bag (rosbag2 or ROS 1).
+
+The command is :mod:`pvfilter.bag.command`; it needs the optional ``rosbags`` package
+(``pip install "pvfilter[bag]"``), which only :mod:`pvfilter.bag.bagfile` imports. The
+serialized fields (:mod:`pvfilter.bag.wire`) and the robot inputs
+(:mod:`pvfilter.bag.robot_inputs`) are numpy only.
+"""
