@@ -28,6 +28,10 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    explain (a floor line nearer than its tilt allows, where the IMU does not show the
    plane tilted down on that side) is weighted like a line on the up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
+   Only an IMU that shows the plane tilted beyond its band supports a line: a level
+   estimate cannot tell a tilted plane from a level one, and with a wide band its
+   support would fall on walls that reappear once the robot levels, whose lines would
+   then widen the band further.
 
 The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
 """
@@ -242,8 +246,9 @@ def _imu_agreement(
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
     (a floor there would need more tilt than the IMU's band allows)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
-    agree = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
+    agree = np.zeros(len(segments), dtype=bool)
     if attitude.tilted:  # else the IMU cannot tell a tilted plane from a level one
+        agree = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
         far = segments.distances >= ceiling_min_distance(magnitude + error, params)
         agree |= (side == -attitude.down_side) & far
     # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane

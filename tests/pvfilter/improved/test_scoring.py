@@ -109,6 +109,20 @@ def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_
     assert result.scan_scores[0] == pytest.approx(1.0)
 
 
+def test_an_imu_that_shows_the_plane_level_lends_no_line_its_support():
+    # a band as wide as a lagging estimator earns (5 deg), the estimate level: the IMU
+    # cannot tell a plane tilted 4 deg from a level one, so a wall ahead at the floor's
+    # range for 4 deg gets no support from it, whatever side the estimate's sign names
+    tilt = math.radians(4.0)
+    wall = line(HEIGHT_M / math.sin(tilt), -1.5, HEIGHT_M / math.sin(tilt), 1.5, 60)
+    half_new = np.arange(60) < 30  # reappearing after the robot levelled
+    for pitch_deg in (0.2, -0.2):
+        wide_level = Attitude(math.radians(pitch_deg), 0.0, math.radians(5.0))
+        assert not wide_level.tilted
+        _, result = scored(wall, new=half_new, attitude=wide_level)
+        assert 0.0 < result.scores[0] == pytest.approx(result.scan_scores[0])
+
+
 def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against():
     # h / sin(pitch) from the sensor: ahead for nose down, behind (negative) for nose up
     for pitch in (math.radians(10.0), math.radians(-6.0)):
