@@ -29,14 +29,17 @@ def exported(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, Path
     return ros2, ros1, folder / "data"
 
 
-def write_scans(path: Path, stamps_s: list[float], topic: str = "/scan") -> Path:
-    """A rosbag2 (MCAP) with one LaserScan per stamp (a wall 2 m ahead), in that order."""
+def write_scans(
+    path: Path, stamps_s: list[float], topic: str = "/scan", storage: str = "MCAP"
+) -> Path:
+    """A rosbag2 (``storage``: MCAP or SQLITE3) with one LaserScan per stamp (a wall 2 m
+    ahead), in that order."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE)
     t = store.types
-    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+    with Writer(path, version=9, storage_plugin=StoragePlugin[storage]) as writer:
         connection = writer.add_connection(topic, "sensor_msgs/msg/LaserScan", typestore=store)
         for i, stamp in enumerate(stamps_s):
             ns = round(stamp * 1e9)

@@ -225,6 +225,21 @@ def test_the_none_filter_passes_a_bag_through(tmp_path, capsys):
     assert [raw for _, raw, _ in after["/scan/filtered"]] == [raw for _, raw, _ in after["/scan"]]
 
 
+def test_a_sqlite3_bag_is_filtered_into_a_sqlite3_bag(tmp_path, capsys):
+    source = write_scans(tmp_path / "in", [1.0, 1.1, 1.2, 1.3], storage="SQLITE3")
+    assert [f.suffix for f in source.iterdir() if f.suffix in (".db3", ".mcap")] == [".db3"]
+    assert main(["bag", str(source), str(tmp_path / "out"), "--quiet"]) == 0
+    assert "paper filter on /scan, 4 scans" in capsys.readouterr().out
+    out = tmp_path / "out"
+    assert [f.suffix for f in out.iterdir() if f.suffix in (".db3", ".mcap")] == [".db3"]
+    after, types = read_bag(out)
+    assert [raw for _, raw, _ in after["/scan"]] == [
+        raw for _, raw, _ in read_bag(source)[0]["/scan"]
+    ]
+    assert len(after["/scan/filtered"]) == len(after["/scan/removed"]) == 4
+    assert types["/scan/filtered"] == "sensor_msgs/msg/LaserScan"
+
+
 def test_without_rosbags_the_error_names_the_extra(tmp_path, monkeypatch, capsys):
     for name in [m for m in sys.modules if m == "rosbags" or m.startswith("rosbags.")]:
         monkeypatch.delitem(sys.modules, name)
