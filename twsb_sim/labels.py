@@ -1,4 +1,4 @@
-"""Ground-truth beam labels (the table users rely on; see DESIGN.md).
+"""Ground-truth beam labels (the table users rely on; see docs/conventions.md).
 
 Every simulated beam carries one of these ``uint8`` codes. A beam is a
 *pitch-variation point* when its label is FLOOR, CEILING or HORIZONTAL: a level

@@ -64,7 +64,7 @@ Rotation = Literal["counter-clockwise", "clockwise"]
 class LidarConfig:
     """The scanner's parameters.
 
-    Layout and rate: DESIGN.md and the paper (§IV-A). Imperfections: the SLAMTEC RPLIDAR
+    Layout and rate: docs/conventions.md and the paper (§IV-A). Imperfections: the SLAMTEC RPLIDAR
     A1M8 data sheet where it gives a number (range 0.15-12 m, resolution under 1 % of the
     distance); ``docs/sensors.md`` lists the sources. ``LidarConfig.ideal()`` switches
     every imperfection off.

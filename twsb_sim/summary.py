@@ -16,7 +16,7 @@ from twsb_sim.labels import BeamLabel, is_pitch_variation
 class FilterCounts:
     """Per-beam confusion counts of a filter against ground truth.
 
-    Counted over beams whose input range is finite (DESIGN.md); positives are the
+    Counted over beams whose input range is finite (docs/conventions.md); positives are the
     pitch-variation labels, a beam is predicted positive when the filter removed it.
     Beams on moving objects (DYNAMIC) are neither: the ones removed are counted apart.
     """

@@ -1,6 +1,6 @@
 """The report folder: ``report.md``, ``results.json``, the plots and the example frames.
 
-``report.md`` puts our numbers next to the paper's (DESIGN.md, "Reference numbers from
+``report.md`` puts our numbers next to the paper's (its "Reference numbers from
 the paper"); ``results.json`` holds every figure behind it (strict JSON: NaN is null).
 """
 
@@ -20,7 +20,7 @@ from twsb_sim.evaluation.improved_report import plot_improved, render_improved_s
 from twsb_sim.evaluation.markdown import fmt, table
 from twsb_sim.evaluation.scan_matching import CONDITIONS
 
-PAPER = {  # DESIGN.md, "Reference numbers from the paper"
+PAPER = {  # the reference numbers the paper reports
     "pvf_auc_min": 0.92,
     "datmo_auc": 0.24,
     "pvf_rate_hz": 126.87,  # on the robot's Qualcomm RB5

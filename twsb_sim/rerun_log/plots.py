@@ -66,7 +66,7 @@ def log_series_styles(rec: rr.RecordingStream) -> None:
 def filter_counts(batch: FrameBatch) -> np.ndarray:
     """Per frame: pitch-variation beams, removed beams, precision, recall; ``(K, 4)``.
 
-    Counted over beams with a finite input range (DESIGN.md); precision is 1 where
+    Counted over beams with a finite input range (docs/conventions.md); precision is 1 where
     nothing is removed, recall NaN where there is no pitch-variation beam; the filter's
     numbers are NaN for frames without a filter result.
     """

@@ -5,7 +5,7 @@ when its score exceeds ``p_th``, so one pass over the runs gives the per-beam co
 every threshold of the sweep (pooled over the runs, over beams with a finite range, as
 the evaluation counts them). From them:
 
-- ``auc``: the area under the precision-recall curve of the ``p_th`` sweep (DESIGN.md's
+- ``auc``: the area under the precision-recall curve of the ``p_th`` sweep (docs/conventions.md's
   definition: trapezoids over recall, extended to recall 0);
 - ``f1``: the best F1 over the thresholds whose precision is at least the target
   precision (0 when none reaches it).

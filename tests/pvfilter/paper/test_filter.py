@@ -1,4 +1,4 @@
-"""PitchVariationFilter.process: the DESIGN.md contract, records, modes, reset."""
+"""PitchVariationFilter.process: the filter contract, records, modes, reset."""
 
 import math
 
