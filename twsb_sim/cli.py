@@ -99,6 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     from twsb_sim.evaluation.cli import add_eval_parser
     from twsb_sim.evaluation.envelope_cli import add_envelope_parser
     from twsb_sim.slam.cli import add_slam_parser
+    from twsb_sim.slam.logs_cli import add_slam_logs_parser
     from twsb_sim.tuning.cli import add_tune_parser
 
     parser = argparse.ArgumentParser(
@@ -111,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_eval_parser(commands)
     add_dataset_commands(commands)  # generate, export-bag
     add_slam_parser(commands)
+    add_slam_logs_parser(commands)
     add_tune_parser(commands)
     add_envelope_parser(commands)
     return parser
