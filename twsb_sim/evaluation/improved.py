@@ -68,6 +68,23 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "settling the view after max_event_s",
         lambda p: _set(p, max_event_s=float("inf")),
     ),
+    "no_line_length": (
+        "weighting a line by its length (a short line scores as a whole floor line)",
+        lambda p: _set(p, line_length_m=0.0),
+    ),
+    "no_sweep_bend": (
+        "allowing for the bend a pitch rate puts in a rotating scan's floor line",
+        lambda p: _set(p, max_pitch_rate_rad_s=0.0),
+    ),
+}
+# the robot's inputs added to the defaults (scans alone otherwise): name -> (what, inputs)
+ABLATION_INPUTS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "with_imu": ("nothing; given the attitude estimate (IMU)", ("pitch_rad", "roll_rad")),
+    "with_odometry": ("nothing; given the wheel odometry's pose", ("pose_sensor_in_odom",)),
+    "with_imu_odometry": (
+        "nothing; given both",
+        ("pitch_rad", "roll_rad", "pose_sensor_in_odom"),
+    ),
 }
 
 
@@ -90,11 +107,12 @@ def improved_filter(
     imu: bool = False,
     label: str = "",
     truth: bool = False,
+    inputs: tuple[str, ...] | None = None,
 ) -> FrameFilter:
     """The improved filter told the recorded robot's LiDAR and axle heights (a user knows
     them); with ``imu`` it is also given the robot's attitude estimate (with ``truth``, the
-    true attitude instead)."""
-    inputs = ("pitch_rad", "roll_rad") if imu else ()
+    true attitude instead); ``inputs`` names the robot inputs it gets instead."""
+    inputs = inputs if inputs is not None else (("pitch_rad", "roll_rad") if imu else ())
     return frame_filter(
         "improved", label or "improved", params, recording.geometry, inputs, truth_inputs=truth
     )
@@ -285,8 +303,10 @@ class ImprovedEvaluation:
     def _ablation(self, recording: Recording, key: str, p_th: tuple[float, ...]) -> None:
         base = ImprovedParams()
         values = tuple(sorted({*p_th, base.p_th}))
-        for name, (_, change) in ABLATION.items():
-            improved = improved_filter(recording, change(base))
+        variants = [(name, change(base), ()) for name, (_, change) in ABLATION.items()]
+        variants += [(name, base, inputs) for name, (_, inputs) in ABLATION_INPUTS.items()]
+        for name, params, inputs in variants:
+            improved = improved_filter(recording, params, inputs=inputs)
             counts, removed, total, _ = one_pass(recording, improved, values, base.p_th)
             self._tally("ablation", key, name, values, base.p_th).add(counts, removed, total)
 
@@ -306,8 +326,9 @@ class ImprovedEvaluation:
 
     def results(self) -> dict:
         """Every figure of this part, JSON-ready (see :mod:`twsb_sim.evaluation.report`)."""
-        out: dict = {"labels": dict(self.labels), "ablation_switches": {
-            name: what for name, (what, _) in ABLATION.items()}}  # fmt: skip
+        switches = {name: what for name, (what, _) in (*ABLATION.items(),
+                                                        *ABLATION_INPUTS.items())}  # fmt: skip
+        out: dict = {"labels": dict(self.labels), "ablation_switches": switches}
         for (group, key), tallies in self.tallies.items():
             out.setdefault(group, {})[key] = {n: t.summary() for n, t in tallies.items()}
         timing = {}

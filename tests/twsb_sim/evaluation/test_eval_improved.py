@@ -77,7 +77,13 @@ def test_quick_eval_compares_the_improved_filter(quick_report):
             for m in per_method.values():
                 assert 0.0 <= m["auc"] <= 1.0 and 0.0 <= m["static_removed_pct"] <= 100.0
     assert set(improved["variations"]) == {"default robot", "LiDAR at 0.15 m"}
-    assert "full" in improved["ablation"]["normal_sequence"]
+    ablation = improved["ablation"]["normal_sequence"]
+    assert {"full", "no_line_length", "no_sweep_bend", "with_imu", "with_odometry",
+            "with_imu_odometry"} <= set(ablation)  # fmt: skip
+    assert set(ablation) == set(improved["ablation_switches"])
+    # the same frames through the same filter with the same inputs give the same numbers
+    assert ablation["with_imu"]["auc"] == improved["sequences"]["normal_sequence"][
+        "improved_imu"]["auc"]  # fmt: skip
     assert improved["tuned_params"]["p_th"] == 0.4
     assert improved["timing"]["same_loop_improved"]["rate_hz"] > 0
     diagnosis = improved["diagnosis"]["normal_sequence"]
