@@ -20,12 +20,11 @@ from pathlib import Path
 import numpy as np
 
 from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry, robot_inputs
+from pvfilter.exits import run_command
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
 from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
 
-EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130
 PITCH_VARIATION_LABELS = (2, 3, 4)  # FLOOR, CEILING, HORIZONTAL (beam label codes)
 
 
@@ -70,14 +69,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     if args.input is None or args.output is None:
         parser.error("the input and output files are required")
-    try:
-        return _filter_file(args)
-    except KeyboardInterrupt:
-        print("pvfilter: interrupted; the output was not written", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except (OSError, ValueError) as error:
-        print(f"pvfilter: error: {error}", file=sys.stderr)
-        return EXIT_USAGE
+    return run_command(
+        "pvfilter", lambda: _filter_file(args), "interrupted; the output was not written"
+    )
 
 
 def _filter_file(args: argparse.Namespace) -> int:

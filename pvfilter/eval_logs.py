@@ -15,19 +15,17 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from pvfilter.cli_options import setting
 from pvfilter.contract import ScanFilter
+from pvfilter.exits import run_command
 from pvfilter.logs import LogReport, evaluate_log, markdown
 from pvfilter.params_file import load_params
 from pvfilter.registry import entry_for_params, filter_entry
 
 DEFAULT_FILTER = "improved"
-EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,14 +73,7 @@ def log_files(paths: Sequence[str]) -> list[Path]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command; returns the exit status."""
     args = build_parser().parse_args(argv)
-    try:
-        return _evaluate(args)
-    except KeyboardInterrupt:
-        print("pvfilter eval-logs: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except (OSError, ValueError) as error:
-        print(f"pvfilter eval-logs: error: {error}", file=sys.stderr)
-        return EXIT_USAGE
+    return run_command("pvfilter eval-logs", lambda: _evaluate(args))
 
 
 def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:

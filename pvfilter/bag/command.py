@@ -19,7 +19,6 @@ Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -32,10 +31,8 @@ from pvfilter.bag.progress import Progress
 from pvfilter.bag.wire import read_scan
 from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry
 from pvfilter.contract import ScanFilter
+from pvfilter.exits import run_command
 from pvfilter.scan import Scan
-
-EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -68,15 +65,15 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command; returns the exit status."""
     args = build_parser().parse_args(argv)
-    try:
+
+    def work() -> int:
         require_rosbags()
         return filter_bag(args)
-    except KeyboardInterrupt:
-        print("pvfilter bag: interrupted; the output was not written", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except (ImportError, OSError, ValueError) as error:
-        print(f"pvfilter bag: error: {error}", file=sys.stderr)
-        return EXIT_USAGE
+
+    return run_command(
+        "pvfilter bag", work, "interrupted; the output was not written",
+        mistakes=(ImportError, OSError, ValueError),  # ImportError: rosbags is missing
+    )  # fmt: skip
 
 
 def filter_bag(args: argparse.Namespace) -> int:
