@@ -19,11 +19,10 @@ the reference measured in the same run. Usage::
 from __future__ import annotations
 
 import argparse
-import time
 
-import mujoco
+from bench_simulation import bare_real_time_factor  # this folder's: the same bare loop
 
-from twsb_sim.runner import run_scenario, simulation_for
+from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import load_scenario
 from twsb_sim.scenario_files import resolve_scenario
 
@@ -41,21 +40,6 @@ def closed_loop_rate(name: str, seconds: float) -> float:
     return total_sim / total_wall
 
 
-def bare_rate(seconds: float) -> float:
-    """Real-time factor of a bare mj_step loop of the reference model, robot held up."""
-    sim = simulation_for(load_scenario(resolve_scenario(SCENARIOS[0])), seed=0)
-    model, data = sim.model, sim.data
-    n_steps = round(seconds / sim.dt_s)
-    qpos0, chunk = data.qpos.copy(), 250
-    started = time.perf_counter()
-    for k in range(n_steps):
-        if k % chunk == 0:
-            data.qpos[:] = qpos0
-            data.qvel[:] = 0.0
-        mujoco.mj_step(model, data)
-    return seconds / (time.perf_counter() - started)
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=16.0, help="simulated s per measurement")
@@ -63,7 +47,9 @@ def main() -> None:
     args = parser.parse_args()
     best = {name: 0.0 for name in ("bare mj_step", *SCENARIOS)}
     for _ in range(args.repeats):  # interleaved: machine load hits all alike
-        best["bare mj_step"] = max(best["bare mj_step"], bare_rate(args.seconds))
+        best["bare mj_step"] = max(
+            best["bare mj_step"], bare_real_time_factor(args.seconds, SCENARIOS[0])
+        )
         for name in SCENARIOS:
             best[name] = max(best[name], closed_loop_rate(name, args.seconds))
     reference = best[SCENARIOS[0]]

@@ -32,10 +32,10 @@ from twsb_sim.scenario import load_scenario
 from twsb_sim.scenario_files import resolve_scenario
 
 
-def bare_step_rate(seconds: float) -> float:
-    """Physics steps per wall second of a bare mj_step loop of the scenario's model."""
-    scenario = load_scenario(resolve_scenario("hard_stop"))
-    sim = simulation_for(scenario, seed=0)
+def bare_real_time_factor(seconds: float, scenario_name: str = "hard_stop") -> float:
+    """Simulated seconds per wall second of a bare mj_step loop of the scenario's model
+    (zero torques, the robot put back upright every 0.5 s)."""
+    sim = simulation_for(load_scenario(resolve_scenario(scenario_name)), seed=0)
     model, data = sim.model, sim.data
     n_steps = round(seconds / sim.dt_s)
     qpos0, chunk = data.qpos.copy(), 250  # 0.5 s: the uncontrolled robot has not fallen yet
@@ -45,7 +45,7 @@ def bare_step_rate(seconds: float) -> float:
             data.qpos[:] = qpos0
             data.qvel[:] = 0.0
         mujoco.mj_step(model, data)
-    return n_steps / (time.perf_counter() - started)
+    return n_steps * sim.dt_s / (time.perf_counter() - started)
 
 
 def closed_loop_rate(
@@ -74,10 +74,9 @@ def main() -> None:
         "--repeats", type=int, default=3, help="take the best of this many measurements"
     )
     args = parser.parse_args()
-    dt = 0.002  # s, the model's physics step
     bare, closed, instant, filtered = [], [], [], []
     for _ in range(args.repeats):  # interleaved, so machine load hits all four alike
-        bare.append(bare_step_rate(args.seconds) * dt)
+        bare.append(bare_real_time_factor(args.seconds))
         closed.append(closed_loop_rate(args.seconds, with_filter=False)[0])
         instant.append(closed_loop_rate(args.seconds, with_filter=False, instant_lidar=True)[0])
         filtered.append(closed_loop_rate(args.seconds, with_filter=True)[0])

@@ -90,6 +90,20 @@ class PrCurve:
     fp: np.ndarray
     fn: np.ndarray
 
+    def at(self, operating_point: float) -> dict[str, float]:
+        """The curve's AUC and its precision and recall at one swept value (which must be
+        one of :attr:`thresholds`), as a report states a method's operating point."""
+        found = np.flatnonzero(self.thresholds == operating_point)
+        if found.size == 0:
+            raise ValueError(f"operating_point: {operating_point!r} is not a swept value")
+        k = int(found[0])
+        return {
+            "auc": self.auc,
+            "operating_point": operating_point,
+            "precision": float(self.precision[k]),
+            "recall": float(self.recall[k]),
+        }
+
 
 def pr_curve(thresholds: ArrayLike, tp: ArrayLike, fp: ArrayLike, fn: ArrayLike) -> PrCurve:
     """A :class:`PrCurve` from per-threshold beam counts (summed over the sequence).

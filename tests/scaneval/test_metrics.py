@@ -124,3 +124,11 @@ def test_associate_pairs_nearest_stamps_within_tolerance():
     ia, ib = associate([0.0, 0.1, 0.2, 0.5], [0.005, 0.098, 0.3], max_difference_s=0.01)
     np.testing.assert_array_equal(ia, [0, 1])
     np.testing.assert_array_equal(ib, [0, 1])
+
+
+def test_a_curve_states_its_operating_point():
+    curve = pr_curve([0.0, 0.5, 0.8], tp=[10, 6, 2], fp=[10, 2, 0], fn=[0, 4, 8])
+    figures = curve.at(0.5)
+    assert figures == {"auc": curve.auc, "operating_point": 0.5, "precision": 0.75, "recall": 0.6}
+    with pytest.raises(ValueError, match=r"0\.3 is not a swept value"):
+        curve.at(0.3)

@@ -136,12 +136,8 @@ class Tally:
 
     def summary(self) -> dict:
         curve = pr_curve(self.thresholds, *self.counts.T)
-        at = self.thresholds.index(self.operating_point)
         return {
-            "auc": curve.auc,
-            "operating_point": self.operating_point,
-            "precision": float(curve.precision[at]),
-            "recall": float(curve.recall[at]),
+            **curve.at(self.operating_point),
             "static_removed_pct": 100.0 * self.static_removed / max(self.static_total, 1),
             "thresholds": list(self.thresholds),
             "precision_curve": curve.precision.tolist(),

@@ -112,13 +112,8 @@ class Cell:
 
     def summary(self) -> dict:
         """The cell's figures (NaN where there is nothing to count)."""
-        curve = pr_curve(self.thresholds, *self.counts.T)
-        at = self.thresholds.index(self.operating_point)
         return {
-            "auc": curve.auc,
-            "operating_point": self.operating_point,
-            "precision": float(curve.precision[at]),
-            "recall": float(curve.recall[at]),
+            **pr_curve(self.thresholds, *self.counts.T).at(self.operating_point),
             "static_removed": _share(self.static),
             "dynamic_removed": _share(self.dynamic),
             "matching_events": len(self.translation_m),
