@@ -42,6 +42,7 @@ def detect_lines(
     motion: Motion,
     new_sequence: bool,
     static: WorldStatic | None = None,
+    through: np.ndarray | None = None,
 ) -> LineDetection:
     """Score every segment, detect the lines, extend them, and build the clusters.
 
@@ -55,9 +56,13 @@ def detect_lines(
         motion: the ego-motion (kept in the result).
         new_sequence: this scan starts a sequence (nothing is new).
         static: the world-static test against an earlier scan (None: none).
+        through: bool per beam: beyond the level view (None: none).
     """
     new_valid = new.take(segments.beams)
-    scores = score_segments(segments, new_valid, scan.time_increment, attitude, params, static)
+    through_valid = None if through is None else through.take(segments.beams)
+    scores = score_segments(
+        segments, new_valid, scan.time_increment, attitude, params, static, through_valid
+    )
     if scores.scores.any():
         owner, best = best_claims(segments, scores.scores, scores.new_counts, params)
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed

@@ -3,7 +3,8 @@
 A floor or ceiling line always lies in front of the structure a level scanner sees along
 the same beams, in space that scanner saw as free (:mod:`pvfilter.improved.memory`). A
 return is **new** when it lies in front of the level view by more than a margin: range
-noise and the ego-motion's error, plus a share of the range for angular error.
+noise and the ego-motion's error, plus a share of the range for angular error. A return
+**seen through** the view lies beyond it by more than that margin.
 """
 
 from __future__ import annotations
@@ -52,6 +53,17 @@ def new_points(
         margin_rel: part of the margin per metre of range, 1.
     """
     return gaps > margin_m + margin_rel * ranges  # NaN (unknown, invalid) compares False
+
+
+def seen_through(
+    gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
+) -> np.ndarray:
+    """Per beam: the return lies beyond the level view by more than the margin (the
+    beam passed where the view had a surface: it moved away, or the motion is off).
+
+    Args as :func:`new_points`.
+    """
+    return gaps < -(margin_m + margin_rel * ranges)  # NaN compares False
 
 
 def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:

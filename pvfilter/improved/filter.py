@@ -24,7 +24,13 @@ from pvfilter.contract import check_attitude, check_pose
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import EgoMotion, Match
-from pvfilter.improved.evidence import RecentScans, WorldStatic, free_space_gaps, new_points
+from pvfilter.improved.evidence import (
+    RecentScans,
+    WorldStatic,
+    free_space_gaps,
+    new_points,
+    seen_through,
+)
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import Motion
@@ -110,12 +116,21 @@ class ImprovedPitchVariationFilter:
         level_ranges = match.ranges
         if level_ranges is None:
             level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
-        new, view, static = self._evidence(
+        new, through, view, static = self._evidence(
             scan, ranges, level_ranges, directions, match.step, velocity, fresh, coast
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
-            scan, points, segments, new, attitude, self.params, match.step, fresh or coast, static
+            scan,
+            points,
+            segments,
+            new,
+            attitude,
+            self.params,
+            match.step,
+            fresh or coast,
+            static,
+            through,
         )
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None and not (fresh or coast):
@@ -194,29 +209,31 @@ class ImprovedPitchVariationFilter:
         velocity: Motion,
         fresh: bool,
         coast: bool,
-    ) -> tuple[np.ndarray, LevelView | None, WorldStatic | None]:
-        """New returns (in front of the level view moved into this scan's frame), the view
-        itself, and the world-static test against the scans of the last
+    ) -> tuple[np.ndarray, np.ndarray, LevelView | None, WorldStatic | None]:
+        """New returns (in front of the level view moved into this scan's frame), returns
+        seen through it, the view itself, and the world-static test against the scans of the last
         ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
         params, layout = self.params, self._layout
         new = np.zeros(len(scan), dtype=bool)
+        through = np.zeros(len(scan), dtype=bool)
         if fresh:
-            return new, None, None
+            return new, through, None, None
         view = self._memory.view(
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
         earlier = self._recent.moved(step)
         if coast:  # the motion is the prior's: nothing is compared
-            return new, view, None
+            return new, through, view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
         new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
+        through = seen_through(gaps, ranges, params.free_margin_m, params.free_margin_rel)
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier
             static = WorldStatic(
                 level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
             )
-        return new, view, static
+        return new, through, view, static
 
     @staticmethod
     def _tilt(detection: LineDetection, attitude: Attitude | None) -> float:

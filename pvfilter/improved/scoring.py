@@ -3,7 +3,11 @@
 Per segment (:mod:`pvfilter.improved.segmentation`):
 
 1. **Evidence**: the share of its points that are new, in space the level view saw as
-   free (:mod:`pvfilter.improved.evidence`).
+   free (:mod:`pvfilter.improved.evidence`). A point seen through the level view (beyond
+   it: the view's surface is not there) counts fully against the line; one that
+   coincides with the view, or where the view is unknown, counts ``COINCIDENT_WEIGHT``:
+   a floor line that settles just in front of a wall has such points, and a wall the
+   view knows has nothing but them, yet no new point either.
 2. **Geometry** (:mod:`pvfilter.improved.geometry`): a floor line is straight, across the
    direction of travel, no nearer than the scanner's height over ``sin(max_tilt)``, and
    its normal leans from the x axis no more than the roll, a rotating scan's bend and the
@@ -52,6 +56,8 @@ from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
 CONFIDENT_SCORE = 0.8  # 1: the scan's own score of a line the IMU is checked against
+COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within the
+# margin) counts this much against a line's share of new points (see the module docstring)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 
@@ -63,7 +69,8 @@ class SegmentScores:
     Attributes:
         scores: per segment, ``P(C_pv)`` in [0, 1].
         gates: per segment, it passes the geometry gates.
-        share_new: per segment, the share of its points that are new.
+        share_new: per segment, the share of its points that are new (points that
+            coincide with the level view weighted by ``COINCIDENT_WEIGHT``).
         new_counts: per segment, its new points.
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
@@ -114,6 +121,7 @@ def score_segments(
     attitude: Attitude | None,
     params: ImprovedParams,
     static: WorldStatic | None = None,
+    through_valid: np.ndarray | None = None,
 ) -> SegmentScores:
     """Score every segment (see the module docstring).
 
@@ -124,12 +132,17 @@ def score_segments(
         attitude: the IMU's attitude, or None.
         params: the filter's parameters.
         static: the world-static test against an earlier scan (None: no earlier scan).
+        through_valid: per valid point, it lies beyond the level view (None: none does).
     """
     k, labels = len(segments), segments.labels
     sizes = np.maximum(segments.sizes, 1)
     any_new = bool(new_valid.any())
     new_counts = np.bincount(labels, new_valid, k) if any_new else np.zeros(k)
     share = new_counts / sizes
+    if any_new:  # the points that tell: new ones, and those seen through the view
+        through = np.zeros(k) if through_valid is None else np.bincount(labels, through_valid, k)
+        told = new_counts + through
+        share = new_counts / np.maximum(told + COINCIDENT_WEIGHT * (sizes - told), 1.0)
     imu_tilted = attitude is not None and attitude.tilted
     # lines are fitted only when a segment across the direction of travel has new points,
     # or the IMU says the plane is tilted (most scans: neither)
@@ -140,6 +153,7 @@ def score_segments(
     tilt = implied_tilt(segments.distances, params)
     gates = geometry_gates(segments, tilt, time_increment, params)
     score = np.where(gates, share, 0.0)
+    side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
@@ -147,7 +161,6 @@ def score_segments(
         score *= 1.0 - _world_static_share(segments, score > 0.0, static)
     # nothing lies beyond a floor line: returns there show a wall beside open space
     score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
-    side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
     down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
     if down != 0 and params.up_side_weight < 1.0:
         too_near = segments.distances < ceiling_min_distance(down_tilt, params)

@@ -9,7 +9,12 @@ import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.imu import Attitude
-from pvfilter.improved.scoring import IMU_SUPPORT, line_pitch, score_segments
+from pvfilter.improved.scoring import (
+    COINCIDENT_WEIGHT,
+    IMU_SUPPORT,
+    line_pitch,
+    score_segments,
+)
 from pvfilter.synthetic import room_segments
 
 from .conftest import HEIGHT_M, tilted_scan
@@ -22,11 +27,11 @@ def line(x0, y0, x1, y1, count=40):
     return np.column_stack((np.linspace(x0, x1, count), np.linspace(y0, y1, count)))
 
 
-def scored(*parts, new=None, params=PARAMS, attitude=None, static=None):
+def scored(*parts, new=None, params=PARAMS, attitude=None, static=None, through=None):
     points = np.concatenate(parts)
     segments = segment_scan(points, np.arange(len(points)), INCREMENT, params)
     new = np.ones(len(points), bool) if new is None else new
-    return segments, score_segments(segments, new, 0.0, attitude, params, static)
+    return segments, score_segments(segments, new, 0.0, attitude, params, static, through)
 
 
 def at(segments, point):
@@ -37,8 +42,14 @@ def test_a_new_floor_line_across_the_direction_of_travel_scores_its_share_of_new
     _, result = scored(line(1.5, -1.0, 1.5, 1.0))
     assert result.gates.tolist() == [True] and result.scores[0] == pytest.approx(1.0)
     half = np.arange(40) < 20
-    _, result = scored(line(1.5, -1.0, 1.5, 1.0), new=half)
+    # the other half seen through the level view: each counts fully against the line
+    _, result = scored(line(1.5, -1.0, 1.5, 1.0), new=half, through=~half)
     assert result.scores[0] == pytest.approx(0.5)
+    # the other half on the view (a line settling in front of a wall): ambiguous, each
+    # counts COINCIDENT_WEIGHT
+    _, result = scored(line(1.5, -1.0, 1.5, 1.0), new=half)
+    assert result.scores[0] == pytest.approx(20 / (20 + COINCIDENT_WEIGHT * 20))
+    assert result.scores[0] > 0.5
 
 
 def test_lines_along_the_direction_of_travel_or_too_near_fail_the_gates():
@@ -96,7 +107,8 @@ def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_
     agreeing = Attitude(tilt, 0.0, math.radians(2.0))
     _, result = scored(floor, new=none_new, attitude=agreeing)
     assert result.scores[0] == pytest.approx(IMU_SUPPORT)  # alone: below the default p_th
-    _, result = scored(floor, new=np.arange(60) < 30, attitude=agreeing)
+    half = np.arange(60) < 30
+    _, result = scored(floor, new=half, attitude=agreeing, through=~half)
     assert result.scores[0] == pytest.approx(1.0 - 0.5 * (1.0 - IMU_SUPPORT))
     level = Attitude(0.0, 0.0, math.radians(2.0))  # the robot is level: no floor at 1.44 m
     _, result = scored(floor, attitude=level)
