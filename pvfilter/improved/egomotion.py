@@ -10,7 +10,10 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   time; the previous scan's tilt is that of its floor line);
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
   that grows with the step: the wheels slip on hard stops), else the last step at
-  constant velocity;
+  constant velocity; where that finds no pairs of points (a velocity from a bad match in
+  a pitch event puts every wall farther off than ``association_m``, and a coasting filter
+  would carry it for ``max_event_s``), the match is tried once more from the robot
+  standing since the reference, as it mostly does at the end of a hard stop;
 - a match that is not to be **trusted** (too few pairs, a poor fit, a turn or a drive
   faster than a robot of this class can, or far from the odometry) removes nothing: in the
   middle of a pitch event the prior carries the motion (**coasting**) until a scan
@@ -141,6 +144,20 @@ class EgoMotion:
             expected,
             spread,
         )
+        if found.pairs < MIN_PAIRS and not odometry and expected.translation_m > 0.0:
+            # no pairs where the constant-velocity prior put them (a wrong velocity, or a
+            # hard stop while coasting): try the robot standing since the reference
+            standing = Motion(expected.theta_rad, 0.0, 0.0)
+            found = estimate_motion(
+                level,
+                directions,
+                self.reference,
+                layout,
+                shift,
+                self.params.association_m,
+                standing,
+                (spread[0], self.params.association_m),
+            )
         step = self.since_reference.inverse().then(found)
         trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
         trusted &= abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)

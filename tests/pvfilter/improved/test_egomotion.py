@@ -101,3 +101,21 @@ def test_coasting_keeps_the_reference_and_carries_the_prior():
     found = ego.match(layout, points, segments, DT, (Motion(0.0, -0.05, 0.0), (0.01, 0.03)),
                       False, None)  # fmt: skip
     assert found.trusted and found.step.tx_m == pytest.approx(-0.05, abs=0.005)
+
+
+def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():
+    # a bad match in a pitch event left a velocity of 4 m/s: the constant-velocity prior
+    # puts every reference point 0.4 m off, farther than association_m, so no pair forms;
+    # the robot in fact stood still, and the walls show it
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego = EgoMotion(PARAMS)
+    scan, _ = tilted_scan(walls=room)
+    layout, points, segments = prepared(scan)
+    ego.commit(points, np.zeros(len(scan), bool), ego.match(layout, points, segments, DT,
+               ego.prior(DT, None), False, None), 0.0, DT, None)  # fmt: skip
+    wrong = (Motion(0.0, -0.4, 0.0), (0.01, 0.03))
+    assert 0.4 > PARAMS.association_m
+    found = ego.match(layout, points, segments, DT, wrong, False, None)
+    assert found.trusted and found.step.translation_m < 0.005
+    # with odometry the prior is a measurement: a match far from it stays untrusted
+    assert not ego.match(layout, points, segments, DT, wrong, True, None).trusted
