@@ -36,6 +36,16 @@ def matched(reference, scan, pose_before=None, pose_after=None, tilt=None):
     return ego.match(layout, points, segments, DT, prior, pose_after is not None, tilt), prior
 
 
+def started(room):
+    """EgoMotion with one level scan of ``room`` from the origin as its reference."""
+    ego = EgoMotion(PARAMS)
+    scan, _ = tilted_scan(walls=room)
+    layout, points, segments = prepared(scan)
+    first = ego.match(layout, points, segments, DT, ego.prior(DT, None), False, None)
+    ego.commit(points, np.zeros(len(scan), bool), first, 0.0, DT, None)
+    return ego, layout, points, segments
+
+
 def test_a_tilted_scan_unstretched_by_its_tilt_matches_its_level_view():
     # nose up 15 deg at the same place: the wall ahead looks 1 / cos(15 deg) farther (4.14
     # instead of 4 m), the wall behind is hidden by the floor line
@@ -84,11 +94,7 @@ def test_a_match_far_from_the_odometry_or_without_pairs_is_not_trusted():
 
 def test_coasting_keeps_the_reference_and_carries_the_prior():
     room = room_segments(3.0, 3.0, 2.0, 2.0)
-    ego = EgoMotion(PARAMS)
-    scan, _ = tilted_scan(walls=room)
-    layout, points, segments = prepared(scan)
-    ego.commit(points, np.zeros(len(scan), bool), ego.match(layout, points, segments, DT,
-               ego.prior(DT, None), False, None), 0.0, DT, None)  # fmt: skip
+    ego, layout, points, segments = started(room)
     reference = ego.reference
     failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
                        (Motion(0.0, -0.05, 0.0), (0.01, 0.03)), False, None)  # fmt: skip
@@ -108,11 +114,7 @@ def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():
     # puts every reference point 0.4 m off, farther than association_m, so no pair forms;
     # the robot in fact stood still, and the walls show it
     room = room_segments(3.0, 3.0, 2.0, 2.0)
-    ego = EgoMotion(PARAMS)
-    scan, _ = tilted_scan(walls=room)
-    layout, points, segments = prepared(scan)
-    ego.commit(points, np.zeros(len(scan), bool), ego.match(layout, points, segments, DT,
-               ego.prior(DT, None), False, None), 0.0, DT, None)  # fmt: skip
+    ego, layout, points, segments = started(room)
     wrong = (Motion(0.0, -0.4, 0.0), (0.01, 0.03))
     assert 0.4 > PARAMS.association_m
     found = ego.match(layout, points, segments, DT, wrong, False, None)
