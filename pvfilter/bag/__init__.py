@@ -2,6 +2,9 @@
 
 The command is :mod:`pvfilter.bag.command`; it needs the optional ``rosbags`` package
 (``pip install "pvfilter[bag]"``), which only :mod:`pvfilter.bag.bagfile` imports. The
-serialized fields (:mod:`pvfilter.bag.wire`) and the robot inputs
-(:mod:`pvfilter.bag.robot_inputs`) are numpy only.
+output bag is a copy of the input with the new topics appended
+(:mod:`pvfilter.bag.outputs`: :mod:`pvfilter.bag.mcap_append`,
+:mod:`pvfilter.bag.ros1_append`); those modules, the serialized fields
+(:mod:`pvfilter.bag.wire`) and the robot inputs (:mod:`pvfilter.bag.robot_inputs`) are
+numpy and the standard library only.
 """

@@ -1,22 +1,28 @@
-"""Reading and writing bags with ``rosbags``: rosbag2 (sqlite3 or MCAP) and ROS 1.
+"""Reading bags with ``rosbags``; writing them through it where no copy can be appended to.
 
 ``rosbags`` is pure Python and an optional extra of this package (``pip install
-"pvfilter[bag]"``): it is imported here only, and :func:`require_rosbags` says what to
-install when it is missing. The output bag has the input's format (a rosbag2 folder with
-the same storage, or a ROS 1 ``.bag`` file); its connections copy the input's (message
-definitions, hashes, QoS, latching), and messages are copied as bytes, never re-serialized.
-Outputs are written under a hidden ``.NAME.partial`` name beside the destination and
-renamed when complete, so an interrupted run leaves no half-written bag.
+"pvfilter[bag]"``): it and its YAML library are imported here only, and
+:func:`require_rosbags` says what to install when it is missing.
+
+:class:`InputBag` is the input: rosbags' reader (connections, types, deserializing) and,
+for a ROS 1 bag or a rosbag2 of one MCAP file, the file's layout, through which the
+filtered topic's messages are read a chunk at a time (:mod:`pvfilter.bag.mcap_layout`)
+and the output is written as a copy of the input with the new topics appended
+(:mod:`pvfilter.bag.outputs`). Other bags (sqlite3 storage, split or compressed files)
+are copied by :class:`CopiedBag`, message by message through rosbags' writers: the
+output has the input's format and connections (message definitions, hashes, QoS,
+latching), and messages are copied as bytes, never re-serialized.
 """
 
 from __future__ import annotations
 
-import os
-import shutil
-from collections.abc import Iterator
-from contextlib import contextmanager
+import io
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
+
+from pvfilter.bag.mcap_layout import Decompress, McapLayout
+from pvfilter.bag.ros1_append import Ros1Layout
 
 INSTALL_HINT = 'pvfilter bag needs rosbags: pip install "pvfilter[bag]" (or: pip install rosbags)'
 
@@ -29,32 +35,158 @@ def require_rosbags() -> None:
         raise ImportError(INSTALL_HINT) from None
 
 
-def open_reader(path: Path) -> Any:
-    """An opened ``rosbags.highlevel.AnyReader`` of the bag at ``path``.
+def open_reader(path: Path) -> InputBag:
+    """The bag at ``path``, opened.
 
     Raises:
         ValueError: no bag at ``path``, or one rosbags cannot read.
     """
-    from rosbags.highlevel import AnyReader, AnyReaderError
-    from rosbags.typesys import Stores, get_typestore
+    from rosbags.rosbag1 import Reader as Reader1
+    from rosbags.rosbag1 import ReaderError as Reader1Error
+    from rosbags.rosbag2 import Reader as Reader2
+    from rosbags.rosbag2 import ReaderError as Reader2Error
 
     if not path.exists():
         raise ValueError(f"{path}: no such bag (a rosbag2 folder or a ROS 1 .bag file)")
     if path.is_dir() and not (path / "metadata.yaml").is_file():
         raise ValueError(f"{path}: not a rosbag2 folder (it has no metadata.yaml)")
-    # bags that do not store their message definitions (rosbag2 before Iron) are read
-    # with the ROS 2 Humble types
-    reader = AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+    is2 = path.suffix != ".bag"  # as rosbags' AnyReader tells them apart
+    reader = Reader2(path) if is2 else Reader1(path)
     try:
         reader.open()
-    except AnyReaderError as error:
+    except (Reader1Error, Reader2Error) as error:
         raise ValueError(f"{path}: not a bag rosbags can read: {error}") from None
-    return reader
+    try:
+        return InputBag(path, reader, is2)
+    except BaseException:
+        reader.close()
+        raise
 
 
 def is_ros1(reader: Any) -> bool:
     """True for a ROS 1 bag, False for a rosbag2."""
     return not reader.is2
+
+
+def load_yaml(path: Path) -> Any:
+    """The YAML document in the file at ``path`` (safe types only)."""
+    from ruamel.yaml import YAML
+
+    return YAML(typ="safe").load(path.read_text(encoding="utf-8"))
+
+
+def dump_yaml(data: Any) -> str:
+    """``data`` as a block-style YAML document, as rosbag2 writes its metadata."""
+    from ruamel.yaml import YAML
+
+    yaml = YAML(typ="safe")
+    yaml.default_flow_style = False
+    text = io.StringIO()
+    yaml.dump(data, text)
+    return text.getvalue()
+
+
+def _mcap_decompress() -> Decompress | None:
+    """rosbags' decompression of MCAP chunks (lz4, zstd); None where it has none."""
+    try:
+        from rosbags.rosbag2.storage_mcap import decompress
+    except ImportError:
+        return None
+    return decompress
+
+
+class InputBag:
+    """An opened input bag: rosbags' reader, and its file's layout where there is one.
+
+    The reader of message types (rosbags' ``AnyReader``, which parses every connection's
+    message definition: 50-200 ms) is opened only when a message is deserialized.
+
+    Args:
+        path: the bag (a rosbag2 folder or a ROS 1 file).
+        reader: rosbags' reader of it (``rosbag1.Reader`` or ``rosbag2.Reader``), open.
+        is2: True for a rosbag2.
+
+    Attributes:
+        layout: a :class:`Ros1Layout` for a ROS 1 bag, a :class:`McapLayout` for a rosbag2
+            of one MCAP file with a summary (its chunks compressed or not, the file not);
+            None otherwise.
+        metadata: a rosbag2's ``metadata.yaml`` (None for ROS 1).
+    """
+
+    def __init__(self, path: Path, reader: Any, is2: bool) -> None:
+        self.path, self.reader, self.is2 = path, reader, is2
+        self.connections = reader.connections
+        self._typed: Any = None  # the AnyReader, once opened
+        self.layout: McapLayout | Ros1Layout | None = None
+        self.metadata: dict[str, Any] | None = None
+        self._channels: dict[int, int] = {}  # connection id -> MCAP channel id
+        self._decompress = _mcap_decompress()
+        if not self.is2:
+            self.layout = Ros1Layout.read(path)
+            return
+        self.metadata = load_yaml(path / "metadata.yaml")
+        info = self.metadata["rosbag2_bagfile_information"]
+        files = info.get("relative_file_paths", [])
+        if (
+            info.get("storage_identifier") != "mcap"
+            or len(files) != 1
+            or info.get("compression_mode")
+        ):
+            return
+        layout = McapLayout.read(path / Path(files[0]).name)
+        topics = [c.topic for c in layout.channels.values()] if layout else []
+        by_topic = {c.topic: c.id for c in layout.channels.values()} if layout else {}
+        if (
+            layout
+            and len(set(topics)) == len(topics)
+            and all(c.topic in by_topic for c in self.connections)
+        ):
+            self.layout = layout
+            self._channels = {c.id: by_topic[c.topic] for c in self.connections}
+
+    def channel_of(self, connection: Any) -> int:
+        """The MCAP channel id of a connection of a rosbag2 with an MCAP layout."""
+        return self._channels[connection.id]
+
+    def messages(self, connections: Sequence[Any] = ()) -> Iterator[tuple[Any, int, bytes]]:
+        """``(connection, bag stamp ns, bytes)`` of ``connections``' messages (all when
+        empty) in time order, as rosbags' reader gives them."""
+        if isinstance(self.layout, McapLayout) and connections and self._decompress:
+            by_channel = {self._channels[c.id]: c for c in connections}
+            for channel, stamp_ns, raw in self.layout.messages(set(by_channel), self._decompress):
+                yield by_channel[channel], stamp_ns, raw
+        else:
+            yield from self.reader.messages(connections=connections)
+
+    @property
+    def typestore(self) -> Any:
+        """The bag's message types (those it stores; ROS 2 Humble's where it has none)."""
+        from rosbags.highlevel import AnyReader, AnyReaderError
+        from rosbags.typesys import Stores, get_typestore
+
+        if self._typed is None:
+            typed = AnyReader([self.path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+            try:
+                typed.open()
+            except AnyReaderError as error:
+                raise ValueError(f"{self.path}: not a bag rosbags can read: {error}") from None
+            self._typed = typed
+        return self._typed.typestore
+
+    def deserialize(self, raw: bytes, msgtype: str) -> Any:
+        """A message of type ``msgtype`` from its bytes."""
+        store = self.typestore
+        return (
+            store.deserialize_cdr(raw, msgtype)
+            if self.is2
+            else store.deserialize_ros1(raw, msgtype)
+        )
+
+    def close(self) -> None:
+        """Close the readers."""
+        self.reader.close()
+        if self._typed is not None:
+            self._typed.close()
 
 
 def _storage_plugin(source: Path) -> Any:
@@ -63,18 +195,17 @@ def _storage_plugin(source: Path) -> Any:
     return StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
 
 
-class BagWriter:
-    """The output bag: input connections copied, new LaserScan topics added.
+class CopiedBag:
+    """The output bag written through rosbags: every input message copied, one by one.
 
     Args:
-        reader: the input bag's reader (its format and connections).
-        source: the input bag's path.
+        bag: the input bag.
         path: where to write (a path that does not exist).
     """
 
-    def __init__(self, reader: Any, source: Path, path: Path) -> None:
-        self.ros1 = is_ros1(reader)
-        self.reader = reader
+    def __init__(self, bag: InputBag, path: Path) -> None:
+        self.ros1 = not bag.is2
+        self.bag = bag
         if self.ros1:
             from rosbags.rosbag1 import Writer
 
@@ -82,24 +213,23 @@ class BagWriter:
         else:
             from rosbags.rosbag2 import Writer
 
-            self._writer = Writer(path, version=9, storage_plugin=_storage_plugin(source))
+            self._writer = Writer(path, version=9, storage_plugin=_storage_plugin(bag.path))
         self._writer.open()
-        self.copies: dict[int, Any] = {}  # input connection id -> output connection
+        self._copies = {c.id: self.add_topic(c, c.topic) for c in bag.connections}
 
-    def copy_connection(self, connection: Any, topic: str | None = None) -> Any:
-        """An output connection like ``connection`` (on ``topic``, when given)."""
-        topic = connection.topic if topic is None else topic
+    def add_topic(self, connection: Any, topic: str) -> Any:
+        """An output connection like ``connection`` on ``topic``."""
         msgdef, digest = connection.msgdef.data or None, connection.digest or None
         if self.ros1:
             ext = connection.ext
             return self._writer.add_connection(
-                topic, connection.msgtype, typestore=self.reader.typestore, msgdef=msgdef,
+                topic, connection.msgtype, typestore=self.bag.typestore, msgdef=msgdef,
                 md5sum=digest, callerid=ext.callerid, latching=ext.latching,
             )  # fmt: skip
         return self._writer.add_connection(
             topic,
             connection.msgtype,
-            typestore=self.reader.typestore,
+            typestore=self.bag.typestore,
             msgdef=msgdef,
             rihs01=digest,
             serialization_format=connection.ext.serialization_format,
@@ -107,6 +237,16 @@ class BagWriter:
             if topic == connection.topic
             else (),
         )
+
+    def read_through(
+        self, bag: InputBag, connections: Sequence[Any]
+    ) -> Iterator[tuple[Any, int, bytes]]:
+        """Copy every input message; yield those of ``connections`` on the way."""
+        wanted = {c.id for c in connections}
+        for connection, stamp_ns, raw in bag.messages():
+            self._writer.write(self._copies[connection.id], stamp_ns, raw)
+            if connection.id in wanted:
+                yield connection, stamp_ns, raw
 
     def write(self, connection: Any, stamp_ns: int, raw: bytes) -> None:
         """Write one serialized message."""
@@ -116,39 +256,6 @@ class BagWriter:
         """Finish the bag (indexes, metadata)."""
         self._writer.close()
 
-
-def _remove(path: Path) -> None:
-    if path.is_dir() and not path.is_symlink():
-        shutil.rmtree(path, ignore_errors=True)
-    else:
-        path.unlink(missing_ok=True)
-
-
-@contextmanager
-def staged_output(out: Path, replace: bool) -> Iterator[Path]:
-    """Where to write the bag ``out``: moved into place when the block completes.
-
-    The path yielded has ``out``'s name (rosbag2 names its files after its folder) inside
-    a hidden ``.NAME.partial`` folder beside ``out``. With ``replace``, an existing
-    ``out`` is replaced at the end; otherwise it is refused before any work.
-
-    Raises:
-        ValueError: ``out`` exists and ``replace`` is False.
-    """
-    if out.exists() and not replace:
-        raise ValueError(f"{out}: exists; give --force to replace it")
-    staging = out.with_name(f".{out.name}.partial")
-    _remove(staging)  # what a killed run left
-    staging.mkdir(parents=True)
-    try:
-        yield staging / out.name
-        if out.exists():
-            old = out.with_name(f".{out.name}.old")
-            _remove(old)
-            os.replace(out, old)
-            os.replace(staging / out.name, out)
-            _remove(old)
-        else:
-            os.replace(staging / out.name, out)
-    finally:
-        _remove(staging)
+    def abort(self) -> None:
+        """Stop without finishing the bag (the caller removes it)."""
+        self._writer.abort()
