@@ -4,7 +4,7 @@
 "pvfilter[bag]"``): it and its YAML library are imported here only, and
 :func:`require_rosbags` says what to install when it is missing.
 
-:class:`InputBag` is the input: rosbags' reader (connections, types, deserializing) and,
+:class:`InputBag` is the input: rosbags' reader (connections, message types) and,
 for a ROS 1 bag or a rosbag2 of one MCAP file, the file's layout, through which the
 filtered topic's messages are read a chunk at a time (:mod:`pvfilter.bag.mcap_layout`)
 and the output is written as a copy of the input with the new topics appended
@@ -99,7 +99,7 @@ class InputBag:
     """An opened input bag: rosbags' reader, and its file's layout where there is one.
 
     The reader of message types (rosbags' ``AnyReader``, which parses every connection's
-    message definition: 50-200 ms) is opened only when a message is deserialized.
+    message definition: 50-200 ms) is opened only when :attr:`typestore` is asked for.
 
     Args:
         path: the bag (a rosbag2 folder or a ROS 1 file).
@@ -172,15 +172,6 @@ class InputBag:
                 raise ValueError(f"{self.path}: not a bag rosbags can read: {error}") from None
             self._typed = typed
         return self._typed.typestore
-
-    def deserialize(self, raw: bytes, msgtype: str) -> Any:
-        """A message of type ``msgtype`` from its bytes."""
-        store = self.typestore
-        return (
-            store.deserialize_cdr(raw, msgtype)
-            if self.is2
-            else store.deserialize_ros1(raw, msgtype)
-        )
 
     def close(self) -> None:
         """Close the readers."""

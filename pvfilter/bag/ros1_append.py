@@ -133,6 +133,7 @@ class Ros1Appender:
         self._next_id = max(layout.connections, default=-1) + 1
         self._connections: list[bytes] = []
         self._chunk_infos: list[bytes] = []
+        self._heads: dict[int, bytes] = {}  # by connection: its message records' start
         self._chunk = OpenChunk()
 
     def add_connection(self, like: int, topic: str) -> int:
@@ -149,12 +150,14 @@ class Ros1Appender:
         )
         self._connections.append(record)
         self._chunk.records += record  # a chunk holds a connection's record before its messages
+        # its messages' records start alike, up to the time's value
+        header = _header([_op(OP_MSGDATA), ("conn", U32.pack(conn)), ("time", bytes(8))])
+        self._heads[conn] = U32.pack(len(header)) + header[:-8]
         return conn
 
     def write(self, conn: int, stamp_ns: int, data: bytes) -> None:
         """Add one message, stamped ``stamp_ns`` in the bag."""
-        header = _header([_op(OP_MSGDATA), ("conn", U32.pack(conn)), ("time", _time(stamp_ns))])
-        record = U32.pack(len(header)) + header + U32.pack(len(data)) + data
+        record = b"".join((self._heads[conn], _time(stamp_ns), U32.pack(len(data)), data))
         if self._chunk.add(conn, stamp_ns, record):
             self._write_chunk()
 
