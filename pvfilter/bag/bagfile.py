@@ -76,11 +76,13 @@ def load_yaml(path: Path) -> Any:
 
 
 def dump_yaml(data: Any) -> str:
-    """``data`` as a block-style YAML document, as rosbag2 writes its metadata."""
+    """``data`` as a block-style YAML document, as rosbag2 writes its metadata (no line
+    folded, so that the document indented is the same one a level down)."""
     from ruamel.yaml import YAML
 
     yaml = YAML(typ="safe")
     yaml.default_flow_style = False
+    yaml.width = 1 << 16  # characters
     text = io.StringIO()
     yaml.dump(data, text)
     return text.getvalue()

@@ -11,6 +11,7 @@ keeps its bytes and its bag stamp.
 from __future__ import annotations
 
 import copy
+import textwrap
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -103,23 +104,23 @@ class AppendedRosbag2(_Appended):
     def close(self) -> None:
         """Finish the MCAP file (with rosbag2's metadata record, where the input had
         one) and write ``metadata.yaml``."""
-        metadata = self._metadata()
-        info = metadata[INFORMATION]
+        info = self._information()
+        document = f"{INFORMATION}:\n" + textwrap.indent(info, "  ")  # one dump, not two
         records = {}
         for name, offset, length in self.bag.layout.metadata:
             if name == ROSBAG2_METADATA:
                 values = read_metadata_record(self.bag.layout.path, offset, length)
                 # as the input had it: metadata.yaml's content, or what is under its key
                 wrapped = values.get("serialized_metadata", "").startswith(INFORMATION)
-                values["serialized_metadata"] = dump_yaml(metadata if wrapped else info).strip()
+                values["serialized_metadata"] = (document if wrapped else info).strip()
                 records[name] = values
         self._appender.close(records)
-        (self.path / "metadata.yaml").write_text(dump_yaml(metadata), encoding="utf-8")
+        (self.path / "metadata.yaml").write_text(document, encoding="utf-8")
 
-    def _metadata(self) -> dict[str, Any]:
-        """The input's metadata with the new topics, file name and message counts."""
-        metadata = copy.deepcopy(self.bag.metadata)
-        info = metadata[INFORMATION]
+    def _information(self) -> str:
+        """The input's ``rosbag2_bagfile_information`` with the new topics, file name and
+        message counts, as YAML."""
+        info = copy.deepcopy(self.bag.metadata[INFORMATION])
         counts = self._appender.counts
         added = sum(counts.values())
         info["relative_file_paths"] = [self._file.name]
@@ -135,4 +136,4 @@ class AppendedRosbag2(_Appended):
             qos = entry["topic_metadata"].get("offered_qos_profiles")
             entry["topic_metadata"]["offered_qos_profiles"] = [] if isinstance(qos, list) else ""
             topics.append(entry)
-        return metadata
+        return dump_yaml(info)
