@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import BinaryIO
 
-BLOCK = 1 << 24  # bytes read at a time: 16 MiB
+BLOCK = 1 << 20  # bytes read at a time: 1 MiB
 CHUNK_SIZE = 1 << 20  # bytes of records a new chunk holds, as rosbags writes them: 1 MiB
 
 
