@@ -63,11 +63,6 @@ def open_reader(path: Path) -> InputBag:
         raise
 
 
-def is_ros1(reader: Any) -> bool:
-    """True for a ROS 1 bag, False for a rosbag2."""
-    return not reader.is2
-
-
 def load_yaml(path: Path) -> Any:
     """The YAML document in the file at ``path`` (safe types only)."""
     from ruamel.yaml import YAML
@@ -132,7 +127,7 @@ class InputBag:
         if (
             info.get("storage_identifier") != "mcap"
             or len(files) != 1
-            or info.get("compression_mode")
+            or str(info.get("compression_mode") or "none").lower() != "none"
         ):
             return
         layout = McapLayout.read(path / Path(files[0]).name)
