@@ -4,10 +4,11 @@
 "pvfilter[bag]"``): it and its YAML library are imported here only, and
 :func:`require_rosbags` says what to install when it is missing.
 
-:class:`InputBag` is the input: rosbags' reader (connections, message types) and,
-for a ROS 1 bag or a rosbag2 of one MCAP file, the file's layout, through which the
-filtered topic's messages are read a chunk at a time (:mod:`pvfilter.bag.mcap_layout`)
-and the output is written as a copy of the input with the new topics appended
+:class:`InputBag` is the input: its connections as rosbags gives them and, for a ROS 1
+bag or a rosbag2 of one MCAP file, the file's layout, through which the filtered topic's
+messages are read a chunk at a time (:mod:`pvfilter.bag.ros1_layout`,
+:mod:`pvfilter.bag.mcap_layout`; a ROS 1 bag is then read without rosbags' reader) and
+the output is written as a copy of the input with the new topics appended
 (:mod:`pvfilter.bag.outputs`). Other bags (sqlite3 storage, split or compressed files)
 are copied by :class:`CopiedBag`, message by message through rosbags' writers: the
 output has the input's format and connections (message definitions, hashes, QoS,
@@ -17,12 +18,14 @@ latching), and messages are copied as bytes, never re-serialized.
 from __future__ import annotations
 
 import io
-from collections.abc import Iterator, Sequence
+import struct
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from pvfilter.bag.mcap_layout import Decompress, McapLayout
-from pvfilter.bag.ros1_append import Ros1Layout
+from pvfilter.bag.input_bag import InputBag
+from pvfilter.bag.mcap_layout import McapLayout
+from pvfilter.bag.ros1_layout import Ros1Layout
 
 INSTALL_HINT = 'pvfilter bag needs rosbags: pip install "pvfilter[bag]" (or: pip install rosbags)'
 
@@ -51,16 +54,88 @@ def open_reader(path: Path) -> InputBag:
     if path.is_dir() and not (path / "metadata.yaml").is_file():
         raise ValueError(f"{path}: not a rosbag2 folder (it has no metadata.yaml)")
     is2 = path.suffix != ".bag"  # as rosbags' AnyReader tells them apart
+    if not is2 and (bag := _indexed_ros1(path)) is not None:
+        return bag
     reader = Reader2(path) if is2 else Reader1(path)
     try:
         reader.open()
     except (Reader1Error, Reader2Error) as error:
         raise ValueError(f"{path}: not a bag rosbags can read: {error}") from None
     try:
-        return InputBag(path, reader, is2)
+        if is2:
+            return _rosbag2(path, reader)
+        return InputBag(path, reader, reader.connections, is2=False, layout=Ros1Layout.read(path))
     except BaseException:
         reader.close()
         raise
+
+
+def _indexed_ros1(path: Path) -> InputBag | None:
+    """A ROS 1 bag read through its index section alone, its connections as rosbags'
+    reader gives them (which first indexes every message of the bag: about 1 µs and 150
+    bytes apiece); None where rosbags' reader is needed (a bag that is not format 2.0,
+    not indexed, encrypted or damaged)."""
+    from rosbags.interfaces import (
+        Connection,
+        ConnectionExtRosbag1,
+        MessageDefinition,
+        MessageDefinitionFormat,
+    )
+    from rosbags.rosbag1.reader import decompressors, normalize
+    from rosbags.typesys.msg import normalize_msgtype
+
+    try:
+        layout = Ros1Layout.read(path)
+    except (struct.error, KeyError, UnicodeDecodeError):
+        return None  # rosbags' reader says what is wrong
+    if layout is None:
+        return None
+    counts, connections = layout.message_counts(), []
+    for conn, record in layout.connections.items():
+        values = {name: value.decode("utf-8") for name, value in record.fields}
+        definition = MessageDefinition(MessageDefinitionFormat.MSG, values["message_definition"])
+        latching = values.get("latching")
+        ext = ConnectionExtRosbag1(values.get("callerid"), int(latching) if latching else None)
+        msgtype = normalize_msgtype(values["type"])
+        topic = normalize(record.topic)
+        connections.append(
+            Connection(conn, topic, msgtype, definition, values["md5sum"], counts[conn], ext, None)
+        )
+
+    def decompress(data: bytes, compression: str) -> bytes:
+        if compression not in decompressors:
+            raise ValueError(f"{path}: chunk compression {compression!r} is not supported")
+        return decompressors[compression](data)
+
+    return InputBag(path, None, connections, is2=False, layout=layout, decompress=decompress)
+
+
+def _rosbag2(path: Path, reader: Any) -> InputBag:
+    """A rosbag2 read through rosbags' reader, and through its MCAP file's layout where
+    it has one file with a summary, not compressed as a whole, one channel a topic."""
+    metadata = load_yaml(path / "metadata.yaml")
+    info = metadata["rosbag2_bagfile_information"]
+    files = info.get("relative_file_paths", [])
+    connections = reader.connections
+    bag = InputBag(path, reader, connections, is2=True, metadata=metadata)
+    if (
+        info.get("storage_identifier") != "mcap"
+        or len(files) != 1
+        or str(info.get("compression_mode") or "none").lower() != "none"
+    ):
+        return bag
+    layout = McapLayout.read(path / Path(files[0]).name)
+    topics = [c.topic for c in layout.channels.values()] if layout else []
+    by_topic = {c.topic: c.id for c in layout.channels.values()} if layout else {}
+    if layout is None or len(set(topics)) < len(topics):
+        return bag
+    if not all(c.topic in by_topic for c in connections):
+        return bag
+    channels = {c.id: by_topic[c.topic] for c in connections}
+    return InputBag(
+        path, reader, connections, is2=True, metadata=metadata, layout=layout,
+        keys=channels, decompress=_mcap_decompress(),
+    )  # fmt: skip
 
 
 def load_yaml(path: Path) -> Any:
@@ -83,7 +158,7 @@ def dump_yaml(data: Any) -> str:
     return text.getvalue()
 
 
-def _mcap_decompress() -> Decompress | None:
+def _mcap_decompress() -> Callable[[bytes, str, int, int], bytes] | None:
     """rosbags' decompression of MCAP chunks (lz4, zstd); None where it has none."""
     try:
         from rosbags.rosbag2.storage_mcap import decompress
@@ -92,89 +167,18 @@ def _mcap_decompress() -> Decompress | None:
     return decompress
 
 
-class InputBag:
-    """An opened input bag: rosbags' reader, and its file's layout where there is one.
+def _typestore(path: Path) -> Any:
+    """The message types of the bag at ``path`` (those it stores, ROS 2 Humble's where it
+    has none), from rosbags' ``AnyReader``: it parses every connection's message
+    definition (50-200 ms), which only :class:`CopiedBag` needs."""
+    from rosbags.highlevel import AnyReader, AnyReaderError
+    from rosbags.typesys import Stores, get_typestore
 
-    The reader of message types (rosbags' ``AnyReader``, which parses every connection's
-    message definition: 50-200 ms) is opened only when :attr:`typestore` is asked for.
-
-    Args:
-        path: the bag (a rosbag2 folder or a ROS 1 file).
-        reader: rosbags' reader of it (``rosbag1.Reader`` or ``rosbag2.Reader``), open.
-        is2: True for a rosbag2.
-
-    Attributes:
-        layout: a :class:`Ros1Layout` for a ROS 1 bag, a :class:`McapLayout` for a rosbag2
-            of one MCAP file with a summary (its chunks compressed or not, the file not);
-            None otherwise.
-        metadata: a rosbag2's ``metadata.yaml`` (None for ROS 1).
-    """
-
-    def __init__(self, path: Path, reader: Any, is2: bool) -> None:
-        self.path, self.reader, self.is2 = path, reader, is2
-        self.connections = reader.connections
-        self._typed: Any = None  # the AnyReader, once opened
-        self.layout: McapLayout | Ros1Layout | None = None
-        self.metadata: dict[str, Any] | None = None
-        self._channels: dict[int, int] = {}  # connection id -> MCAP channel id
-        self._decompress = _mcap_decompress()
-        if not self.is2:
-            self.layout = Ros1Layout.read(path)
-            return
-        self.metadata = load_yaml(path / "metadata.yaml")
-        info = self.metadata["rosbag2_bagfile_information"]
-        files = info.get("relative_file_paths", [])
-        if (
-            info.get("storage_identifier") != "mcap"
-            or len(files) != 1
-            or str(info.get("compression_mode") or "none").lower() != "none"
-        ):
-            return
-        layout = McapLayout.read(path / Path(files[0]).name)
-        topics = [c.topic for c in layout.channels.values()] if layout else []
-        by_topic = {c.topic: c.id for c in layout.channels.values()} if layout else {}
-        if (
-            layout
-            and len(set(topics)) == len(topics)
-            and all(c.topic in by_topic for c in self.connections)
-        ):
-            self.layout = layout
-            self._channels = {c.id: by_topic[c.topic] for c in self.connections}
-
-    def channel_of(self, connection: Any) -> int:
-        """The MCAP channel id of a connection of a rosbag2 with an MCAP layout."""
-        return self._channels[connection.id]
-
-    def messages(self, connections: Sequence[Any] = ()) -> Iterator[tuple[Any, int, bytes]]:
-        """``(connection, bag stamp ns, bytes)`` of ``connections``' messages (all when
-        empty) in time order, as rosbags' reader gives them."""
-        if isinstance(self.layout, McapLayout) and connections and self._decompress:
-            by_channel = {self._channels[c.id]: c for c in connections}
-            for channel, stamp_ns, raw in self.layout.messages(set(by_channel), self._decompress):
-                yield by_channel[channel], stamp_ns, raw
-        else:
-            yield from self.reader.messages(connections=connections)
-
-    @property
-    def typestore(self) -> Any:
-        """The bag's message types (those it stores; ROS 2 Humble's where it has none)."""
-        from rosbags.highlevel import AnyReader, AnyReaderError
-        from rosbags.typesys import Stores, get_typestore
-
-        if self._typed is None:
-            typed = AnyReader([self.path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
-            try:
-                typed.open()
-            except AnyReaderError as error:
-                raise ValueError(f"{self.path}: not a bag rosbags can read: {error}") from None
-            self._typed = typed
-        return self._typed.typestore
-
-    def close(self) -> None:
-        """Close the readers."""
-        self.reader.close()
-        if self._typed is not None:
-            self._typed.close()
+    try:
+        with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)) as typed:
+            return typed.typestore
+    except AnyReaderError as error:
+        raise ValueError(f"{path}: not a bag rosbags can read: {error}") from None
 
 
 def _storage_plugin(source: Path) -> Any:
@@ -193,7 +197,7 @@ class CopiedBag:
 
     def __init__(self, bag: InputBag, path: Path) -> None:
         self.ros1 = not bag.is2
-        self.bag = bag
+        self.typestore = _typestore(bag.path)
         if self.ros1:
             from rosbags.rosbag1 import Writer
 
@@ -211,13 +215,13 @@ class CopiedBag:
         if self.ros1:
             ext = connection.ext
             return self._writer.add_connection(
-                topic, connection.msgtype, typestore=self.bag.typestore, msgdef=msgdef,
+                topic, connection.msgtype, typestore=self.typestore, msgdef=msgdef,
                 md5sum=digest, callerid=ext.callerid, latching=ext.latching,
             )  # fmt: skip
         return self._writer.add_connection(
             topic,
             connection.msgtype,
-            typestore=self.bag.typestore,
+            typestore=self.typestore,
             msgdef=msgdef,
             rihs01=digest,
             serialization_format=connection.ext.serialization_format,

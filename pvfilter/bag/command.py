@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pvfilter.bag.bagfile import InputBag, open_reader, require_rosbags
+from pvfilter.bag.bagfile import open_reader, require_rosbags
+from pvfilter.bag.input_bag import InputBag
 from pvfilter.bag.inputs_pass import BagInputs, read_inputs
 from pvfilter.bag.outputs import open_output
 from pvfilter.bag.progress import Progress

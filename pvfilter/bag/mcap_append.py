@@ -15,7 +15,7 @@ import struct
 import zlib
 from pathlib import Path
 
-from pvfilter.bag.appending import OpenChunk, copy_prefix
+from pvfilter.bag.chunks import OpenChunk, copy_prefix
 from pvfilter.bag.mcap_layout import (
     MAGIC,
     OP_ATTACHMENT_INDEX,

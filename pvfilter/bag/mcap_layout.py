@@ -15,11 +15,12 @@ uint32 length; maps by their uint32 byte length.
 from __future__ import annotations
 
 import dataclasses
-import heapq
 import struct
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import BinaryIO
+
+from pvfilter.bag.chunks import merged
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_FOOTER, OP_SCHEMA, OP_CHANNEL, OP_MESSAGE, OP_CHUNK = 0x02, 0x03, 0x04, 0x05, 0x06
@@ -157,10 +158,7 @@ class McapLayout:
         order (file order between equal times), as rosbags orders them."""
         chunks = [c for c in self.chunks if c.channels & channel_ids]
         with self.path.open("rb") as file:
-            sources = [_chunk_messages(file, c, channel_ids, decompress) for c in chunks]
-            for log_time, offset, channel, data in heapq.merge(*sources):
-                if offset >= 0:  # not a chunk's placeholder
-                    yield channel, log_time, data
+            yield from merged([_chunk_messages(file, c, channel_ids, decompress) for c in chunks])
 
 
 def _chunk_messages(
@@ -170,8 +168,7 @@ def _chunk_messages(
     channels, in log-time order (file order between equal times), found through the
     chunk's message indexes.
 
-    A placeholder at the chunk's start time comes first, so that a merge of chunks reads
-    each chunk only when its time comes, not all of them at its start (as rosbags does).
+    A placeholder at the chunk's start time comes first (see :func:`merged`).
     """
     yield chunk.start_ns, -1, -1, b""
     file.seek(chunk.offset)

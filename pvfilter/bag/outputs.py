@@ -16,10 +16,12 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from pvfilter.bag.bagfile import CopiedBag, InputBag, dump_yaml
+from pvfilter.bag.bagfile import CopiedBag, dump_yaml
+from pvfilter.bag.input_bag import InputBag
 from pvfilter.bag.mcap_append import McapAppender
 from pvfilter.bag.mcap_layout import McapLayout, read_metadata_record
-from pvfilter.bag.ros1_append import Ros1Appender, Ros1Layout
+from pvfilter.bag.ros1_append import Ros1Appender
+from pvfilter.bag.ros1_layout import Ros1Layout
 
 ROSBAG2_METADATA = "rosbag2"  # the MCAP metadata record rosbag2 keeps its metadata in
 INFORMATION = "rosbag2_bagfile_information"  # metadata.yaml's one key

@@ -8,33 +8,26 @@ again with the new ones added; the bag header, padded to a fixed size, is rewrit
 place with the new index position and counts. Readers order messages by the index, so
 chunks that overlap in time read as one time-ordered bag.
 
-The layout is that of the ROS bag format 2.0: records of a header (fields
-``uint32 length, name=value``) and data, each prefixed by its uint32 length;
-little-endian; times as ``uint32 sec, uint32 nsec``.
+The records are those of the ROS bag format 2.0 (:mod:`pvfilter.bag.ros1_layout`).
 """
 
 from __future__ import annotations
 
-import dataclasses
 import struct
 from pathlib import Path
 
-from pvfilter.bag.appending import OpenChunk, copy_prefix
-
-MAGIC = b"#ROSBAG V2.0\n"
-OP_MSGDATA, OP_BAGHEADER, OP_IDXDATA, OP_CHUNK, OP_CHUNK_INFO, OP_CONNECTION = range(2, 8)
-U32, U64 = struct.Struct("<I"), struct.Struct("<Q")
-
-
-def _fields(header: bytes) -> list[tuple[str, bytes]]:
-    """A record header's fields, in order."""
-    found, at = [], 0
-    while at < len(header):
-        (size,) = U32.unpack_from(header, at)
-        name, _, value = header[at + 4 : at + 4 + size].partition(b"=")
-        found.append((name.decode("ascii"), value))
-        at += 4 + size
-    return found
+from pvfilter.bag.chunks import OpenChunk, copy_prefix
+from pvfilter.bag.ros1_layout import (
+    MAGIC,
+    OP_CHUNK,
+    OP_CHUNK_INFO,
+    OP_CONNECTION,
+    OP_IDXDATA,
+    OP_MSGDATA,
+    U32,
+    U64,
+    Ros1Layout,
+)
 
 
 def _header(fields: list[tuple[str, bytes]]) -> bytes:
@@ -52,70 +45,6 @@ def _time(stamp_ns: int) -> bytes:
 
 def _op(code: int) -> tuple[str, bytes]:
     return "op", bytes([code])
-
-
-def _walk(data: bytes, at: int, count: int) -> tuple[list[tuple[bytes, bytes, bytes]], int]:
-    """``count`` records from ``at``: (the whole record, its header, its data), and the
-    position after them."""
-    records = []
-    for _ in range(count):
-        (size,) = U32.unpack_from(data, at)
-        header = data[at + 4 : at + 4 + size]
-        (length,) = U32.unpack_from(data, at + 4 + size)
-        end = at + 8 + size + length
-        records.append((data[at:end], header, data[end - length : end]))
-        at = end
-    return records, at
-
-
-@dataclasses.dataclass
-class Ros1Layout:
-    """A ROS 1 bag's header and index section.
-
-    Attributes:
-        path: the bag.
-        header: the bag header record's fields, in order.
-        index_pos: where the index section starts (the chunks end).
-        connections: each connection's record (bytes) and its data's fields, by id.
-        chunk_infos: the chunk info records, as bytes.
-    """
-
-    path: Path
-    header: list[tuple[str, bytes]]
-    index_pos: int
-    connections: dict[int, tuple[bytes, list[tuple[str, bytes]]]]
-    chunk_infos: list[bytes]
-
-    @classmethod
-    def read(cls, path: Path) -> Ros1Layout | None:
-        """The layout of the bag at ``path``; None when it cannot be appended to (not
-        format 2.0, not indexed, or encrypted)."""
-        with path.open("rb") as file:
-            start = file.read(len(MAGIC) + 4)
-            if start[: len(MAGIC)] != MAGIC:
-                return None
-            header = _fields(file.read(U32.unpack_from(start, len(MAGIC))[0]))
-            values = dict(header)
-            if values.get("op") != bytes([OP_BAGHEADER]) or values.get("encryptor"):
-                return None
-            (index_pos,) = U64.unpack(values["index_pos"])
-            (conn_count,), (chunk_count,) = (
-                U32.unpack(values["conn_count"]),
-                U32.unpack(values["chunk_count"]),
-            )
-            if not index_pos:
-                return None
-            file.seek(index_pos)
-            index = file.read()
-        connections, at = _walk(index, 0, conn_count)
-        chunk_infos, _ = _walk(index, at, chunk_count)
-        return cls(
-            path,
-            header,
-            index_pos,
-            {U32.unpack(dict(_fields(h))["conn"])[0]: (r, _fields(d)) for r, h, d in connections},
-            [r for r, _, _ in chunk_infos],
-        )
 
 
 class Ros1Appender:
@@ -140,7 +69,8 @@ class Ros1Appender:
         """A new connection like connection ``like`` (type, definition, caller) on
         ``topic``; returns its id."""
         fields = [
-            (n, topic.encode() if n == "topic" else v) for n, v in self.layout.connections[like][1]
+            (n, topic.encode() if n == "topic" else v)
+            for n, v in self.layout.connections[like].fields
         ]
         conn = self._next_id
         self._next_id += 1
@@ -195,8 +125,8 @@ class Ros1Appender:
         self._write_chunk()
         file, layout = self._file, self.layout
         index_pos = file.tell()
-        for record, *_ in layout.connections.values():
-            file.write(record)
+        for connection in layout.connections.values():
+            file.write(connection.record)
         file.write(b"".join(self._connections))
         file.write(b"".join(layout.chunk_infos + self._chunk_infos))
         values = {

@@ -9,7 +9,7 @@ import pytest
 
 from pvfilter.bag.bagfile import load_yaml, open_reader
 from pvfilter.bag.mcap_layout import McapLayout, read_metadata_record
-from pvfilter.bag.ros1_append import Ros1Layout
+from pvfilter.bag.ros1_layout import Ros1Layout
 from pvfilter.cli import main
 
 from .conftest import write_scans
@@ -33,19 +33,44 @@ def _recorded(path: Path) -> tuple[Path, slice]:
     return path, slice(start, layout.index_pos)
 
 
+def _lz4(source: Path, path: Path) -> Path:
+    """The ROS 1 bag ``source`` written again with lz4-compressed chunks."""
+    from rosbags.rosbag1 import Reader, Writer
+
+    writer = Writer(path)
+    writer.set_compression(Writer.CompressionFormat.LZ4)
+    with Reader(source) as reader, writer:
+        copies = {
+            c.id: writer.add_connection(
+                c.topic,
+                c.msgtype,
+                msgdef=c.msgdef.data,
+                md5sum=c.digest,
+                callerid=c.ext.callerid,
+                latching=c.ext.latching,
+            )
+            for c in reader.connections
+        }
+        for connection, stamp_ns, raw in reader.messages():
+            writer.write(copies[connection.id], stamp_ns, raw)
+    return path
+
+
 def _input(which: str, exported: tuple[Path, Path, Path], tmp_path: Path) -> Path:
     if which == "rosbag2 zstd":
         return write_scans(tmp_path / "zstd", [1.0 + 0.1 * i for i in range(30)], compressed=True)
+    if which == "ros1 lz4":
+        return _lz4(exported[1], tmp_path / "lz4.bag")
     return exported[0] if which == "rosbag2" else exported[1]
 
 
-@pytest.mark.parametrize("which", ["rosbag2", "rosbag2 zstd", "ros1"])
+@pytest.mark.parametrize("which", ["rosbag2", "rosbag2 zstd", "ros1", "ros1 lz4"])
 def test_the_input_s_chunks_are_copied_as_bytes(exported, tmp_path, which):
     source = _input(which, exported, tmp_path)
-    out = tmp_path / ("out.bag" if which == "ros1" else "out")
+    out = tmp_path / ("out.bag" if which.startswith("ros1") else "out")
     assert main(["bag", str(source), str(out), "--scan-topic", "/scan", "--quiet"]) == 0
     file, span = _recorded(source)
-    out_file = out if which == "ros1" else out / "out.mcap"
+    out_file = out if which.startswith("ros1") else out / "out.mcap"
     assert out_file.read_bytes()[span] == file.read_bytes()[span]
 
     before, after = (

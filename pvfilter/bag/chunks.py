@@ -1,13 +1,32 @@
-"""What appending to a copy of a bag takes in both formats: the input's bytes copied in
-one piece, and the chunk being filled with the new messages."""
+"""What the two bag formats share here: chunks' messages merged in time order, the
+input's bytes copied in one piece, and the chunk being filled with the new messages."""
 
 from __future__ import annotations
 
+import heapq
+from collections.abc import Iterator
 from pathlib import Path
 from typing import BinaryIO
 
 BLOCK = 1 << 20  # bytes read at a time: 1 MiB
 CHUNK_SIZE = 1 << 20  # bytes of records a new chunk holds, as rosbags writes them: 1 MiB
+
+
+def merged(
+    sources: list[Iterator[tuple[int, int, int, bytes]]],
+) -> Iterator[tuple[int, int, bytes]]:
+    """``(id, time ns, data)`` of the chunks' messages in time order (chunk order between
+    equal times).
+
+    Args:
+        sources: one a chunk, each yielding ``(time ns, chunk position, id, data)`` in time
+            order, after a placeholder at the chunk's start time with position -1, so
+            that the merge reads each chunk only when its time comes, not all of them
+            at its start (as rosbags does).
+    """
+    for time_ns, position, key, data in heapq.merge(*sources):
+        if position >= 0:  # not a chunk's placeholder
+            yield key, time_ns, data
 
 
 def copy_prefix(source: Path, destination: BinaryIO, length: int) -> None:
