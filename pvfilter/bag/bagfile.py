@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import io
 import struct
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,7 @@ from pvfilter.bag.input_bag import InputBag
 from pvfilter.bag.mcap_layout import McapLayout
 from pvfilter.bag.ros1_layout import Ros1Layout
 
+NEWEST_ROSBAG2 = 9  # the newest rosbag2 metadata version rosbags reads
 INSTALL_HINT = 'pvfilter bag needs rosbags: pip install "pvfilter[bag]" (or: pip install rosbags)'
 
 
@@ -39,7 +40,8 @@ def require_rosbags() -> None:
 
 
 def open_reader(path: Path) -> InputBag:
-    """The bag at ``path``, opened.
+    """The bag at ``path``, opened: read through its file's layout where it has one,
+    through rosbags' reader otherwise.
 
     Raises:
         ValueError: no bag at ``path``, or one rosbags cannot read.
@@ -54,27 +56,24 @@ def open_reader(path: Path) -> InputBag:
     if path.is_dir() and not (path / "metadata.yaml").is_file():
         raise ValueError(f"{path}: not a rosbag2 folder (it has no metadata.yaml)")
     is2 = path.suffix != ".bag"  # as rosbags' AnyReader tells them apart
-    if not is2 and (bag := _indexed_ros1(path)) is not None:
+    try:
+        bag = _mcap_rosbag2(path) if is2 else _indexed_ros1(path)
+    except (OSError, struct.error, KeyError, TypeError, ValueError, UnicodeDecodeError):
+        bag = None  # rosbags' reader says what is wrong
+    if bag is not None:
         return bag
     reader = Reader2(path) if is2 else Reader1(path)
     try:
         reader.open()
     except (Reader1Error, Reader2Error) as error:
         raise ValueError(f"{path}: not a bag rosbags can read: {error}") from None
-    try:
-        if is2:
-            return _rosbag2(path, reader)
-        return InputBag(path, reader, reader.connections, is2=False, layout=Ros1Layout.read(path))
-    except BaseException:
-        reader.close()
-        raise
+    return InputBag(path, reader, reader.connections, is2=is2)
 
 
 def _indexed_ros1(path: Path) -> InputBag | None:
-    """A ROS 1 bag read through its index section alone, its connections as rosbags'
-    reader gives them (which first indexes every message of the bag: about 1 µs and 150
-    bytes apiece); None where rosbags' reader is needed (a bag that is not format 2.0,
-    not indexed, encrypted or damaged)."""
+    """A ROS 1 bag read through its index section, its connections as rosbags' reader
+    gives them (which first indexes every message of the bag: about 1 µs and 150 bytes
+    apiece); None for a bag that is not format 2.0, not indexed, or encrypted."""
     from rosbags.interfaces import (
         Connection,
         ConnectionExtRosbag1,
@@ -84,10 +83,7 @@ def _indexed_ros1(path: Path) -> InputBag | None:
     from rosbags.rosbag1.reader import decompressors, normalize
     from rosbags.typesys.msg import normalize_msgtype
 
-    try:
-        layout = Ros1Layout.read(path)
-    except (struct.error, KeyError, UnicodeDecodeError):
-        return None  # rosbags' reader says what is wrong
+    layout = Ros1Layout.read(path)
     if layout is None:
         return None
     counts, connections = layout.message_counts(), []
@@ -110,39 +106,74 @@ def _indexed_ros1(path: Path) -> InputBag | None:
     return InputBag(path, None, connections, is2=False, layout=layout, decompress=decompress)
 
 
-def _rosbag2(path: Path, reader: Any) -> InputBag:
-    """A rosbag2 read through rosbags' reader, and through its MCAP file's layout where
-    it has one file with a summary, not compressed as a whole, one channel a topic."""
+def _mcap_rosbag2(path: Path) -> InputBag | None:
+    """A rosbag2 of one MCAP file read through the file's summary, its connections as
+    rosbags' reader gives them; None for other storage, several files, a file compressed
+    as a whole, an MCAP file without summary, a topic on two channels."""
+    from rosbags.interfaces import (
+        Connection,
+        ConnectionExtRosbag2,
+        MessageDefinition,
+        MessageDefinitionFormat,
+    )
+    from rosbags.rosbag2.metadata import parse_qos
+    from rosbags.rosbag2.storage_mcap import decompress
+
     metadata = load_yaml(path / "metadata.yaml")
     info = metadata["rosbag2_bagfile_information"]
-    files = info.get("relative_file_paths", [])
-    connections = reader.connections
-    bag = InputBag(path, reader, connections, is2=True, metadata=metadata)
-    if (
-        info.get("storage_identifier") != "mcap"
-        or len(files) != 1
-        or str(info.get("compression_mode") or "none").lower() != "none"
-    ):
-        return bag
+    files = info["relative_file_paths"]
+    mode = str(info.get("compression_mode") or "none").lower()
+    if info["storage_identifier"] != "mcap" or len(files) != 1 or mode != "none":
+        return None
+    if info["version"] > 9:
+        return None
     layout = McapLayout.read(path / Path(files[0]).name)
-    topics = [c.topic for c in layout.channels.values()] if layout else []
-    by_topic = {c.topic: c.id for c in layout.channels.values()} if layout else {}
-    if layout is None or len(set(topics)) < len(topics):
-        return bag
-    if not all(c.topic in by_topic for c in connections):
-        return bag
-    channels = {c.id: by_topic[c.topic] for c in connections}
+    if layout is None:
+        return None
+    by_topic = {c.topic: c for c in layout.channels.values()}
+    formats = {"ros2msg": MessageDefinitionFormat.MSG, "ros2idl": MessageDefinitionFormat.IDL}
+    formats |= {"omgidl": MessageDefinitionFormat.IDL}
+    definitions = {}  # by type: the first schema that has one, as rosbags takes it
+    for channel in layout.channels.values():
+        name, encoding, data = layout.schemas[channel.schema_id]
+        if encoding in formats:
+            definitions.setdefault(name, MessageDefinition(formats[encoding], data))
+    none = MessageDefinition(MessageDefinitionFormat.NONE, "")
+    connections, keys = [], {}
+    for index, entry in enumerate(info["topics_with_message_count"], start=1):
+        topic = entry["topic_metadata"]
+        if topic["serialization_format"] != "cdr" or topic["name"] not in by_topic:
+            return None
+        qos = parse_qos(topic.get("offered_qos_profiles", []))
+        ext = ConnectionExtRosbag2(topic["serialization_format"], qos)
+        digest = topic.get("type_description_hash", "")
+        msgtype, count = topic["type"], entry["message_count"]
+        definition = definitions.get(msgtype, none)
+        connections.append(
+            Connection(index, topic["name"], msgtype, definition, digest, count, ext, None)
+        )
+        keys[index] = by_topic[topic["name"]].id
+    if len(by_topic) < len(layout.channels):
+        return None  # a topic on two channels
     return InputBag(
-        path, reader, connections, is2=True, metadata=metadata, layout=layout,
-        keys=channels, decompress=_mcap_decompress(),
+        path, None, connections, is2=True, layout=layout, metadata=metadata, keys=keys,
+        decompress=decompress,
     )  # fmt: skip
 
 
 def load_yaml(path: Path) -> Any:
-    """The YAML document in the file at ``path`` (safe types only)."""
-    from ruamel.yaml import YAML
+    """The YAML document in the file at ``path`` (safe types only).
 
-    return YAML(typ="safe").load(path.read_text(encoding="utf-8"))
+    Raises:
+        ValueError: the file is not YAML.
+    """
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
+
+    try:
+        return YAML(typ="safe").load(path.read_text(encoding="utf-8"))
+    except YAMLError as error:
+        raise ValueError(f"{path}: not YAML ({error})") from None
 
 
 def dump_yaml(data: Any) -> str:
@@ -156,15 +187,6 @@ def dump_yaml(data: Any) -> str:
     text = io.StringIO()
     yaml.dump(data, text)
     return text.getvalue()
-
-
-def _mcap_decompress() -> Callable[[bytes, str, int, int], bytes] | None:
-    """rosbags' decompression of MCAP chunks (lz4, zstd); None where it has none."""
-    try:
-        from rosbags.rosbag2.storage_mcap import decompress
-    except ImportError:
-        return None
-    return decompress
 
 
 def _typestore(path: Path) -> Any:

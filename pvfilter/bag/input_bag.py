@@ -16,21 +16,20 @@ from pvfilter.bag.ros1_layout import Ros1Layout
 
 
 class InputBag:
-    """An opened input bag: its connections, and its file's layout where there is one.
+    """An opened input bag: its connections, and its file's layout or rosbags' reader.
 
     Args:
         path: the bag (a rosbag2 folder or a ROS 1 file).
         reader: rosbags' reader of it (``rosbag1.Reader`` or ``rosbag2.Reader``), open;
-            None where the layout reads every message.
+            None where the layout reads the messages.
         connections: the bag's connections (rosbags' ``Connection``).
         is2: True for a rosbag2.
         layout: a :class:`Ros1Layout` for a ROS 1 bag, a :class:`McapLayout` for a rosbag2
-            of one MCAP file with a summary; None otherwise.
-        metadata: a rosbag2's ``metadata.yaml``.
+            of one MCAP file with a summary; None where rosbags' reader reads the bag.
+        metadata: a rosbag2's ``metadata.yaml`` (where there is a layout).
         keys: a connection's id in the layout by its id in ``connections`` (MCAP channel
             ids; a ROS 1 bag's are the same).
-        decompress: how the layout's chunks are decompressed; None to read through
-            ``reader``.
+        decompress: how the layout's chunks are decompressed.
     """
 
     def __init__(

@@ -100,6 +100,7 @@ class McapLayout:
         path: the file.
         data_end: where its data section's DataEnd record starts.
         summary: the summary's records by opcode, as bytes (opcode and length included).
+        schemas: the schema records' ``(name, encoding, data)`` by id.
         channels: the channel records by id.
         chunks: the chunk index records, in file order.
         statistics: the statistics record's counts and times (see :func:`_statistics`).
@@ -109,6 +110,7 @@ class McapLayout:
     path: Path
     data_end: int
     summary: dict[int, list[bytes]]
+    schemas: dict[int, tuple[str, str, str]]
     channels: dict[int, Channel]
     chunks: list[ChunkIndex]
     statistics: dict[str, object]
@@ -145,6 +147,7 @@ class McapLayout:
             path,
             summary_start - DATA_END_SIZE,
             summary,
+            dict(map(_schema, summary.get(OP_SCHEMA, []))),
             {c.id: c for c in map(_channel, summary.get(OP_CHANNEL, []))},
             [_chunk_index(r) for r in summary[OP_CHUNK_INDEX]],
             _statistics(summary[OP_STATISTICS][0]),
@@ -194,6 +197,12 @@ def _chunk_messages(
     found.sort()
     for log_time, _, channel, raw in found:
         yield log_time, chunk.offset, channel, raw
+
+
+def _schema(record: bytes) -> tuple[int, tuple[str, str, str]]:
+    fields = _Fields(record[RECORD.size :])
+    (schema_id,) = fields.unpack("H")
+    return schema_id, (fields.string(), fields.string(), fields.string())
 
 
 def _channel(record: bytes) -> Channel:
