@@ -28,7 +28,9 @@ def modules(package: str) -> list[Path]:
 
 # the optional packages pvfilter may use, and the one module that imports each (inside a
 # function or a fallback, never at import time): its extras, not its requirements
-OPTIONAL_IN_PVFILTER = {"rosbags": "bag/bagfile.py", "tomli": "toml_reader.py"}
+# (ruamel.yaml, rosbags' YAML library, writes the bag's metadata.yaml)
+OPTIONAL_IN_PVFILTER = {"rosbags": "bag/bagfile.py", "ruamel": "bag/bagfile.py"}
+OPTIONAL_IN_PVFILTER |= {"tomli": "toml_reader.py"}
 
 
 def test_pvfilter_needs_numpy_and_scipy_only():
@@ -48,7 +50,7 @@ def test_pvfilter_imports_without_its_optional_packages():
     code = (
         f"import sys; {blocked}; import pvfilter, pvfilter.cli, pvfilter.bag.command; "
         "print(sorted(m for m, v in sys.modules.items() "
-        "if v and m.split('.')[0] in ('rosbags', 'tomli')))"
+        "if v and m.split('.')[0] in ('rosbags', 'ruamel', 'tomli')))"
     )
     done = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=False

@@ -25,9 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pvfilter.bag.bagfile import BagWriter, open_reader, require_rosbags, staged_output
+from pvfilter.bag.bagfile import open_reader, require_rosbags
+from pvfilter.bag.input_bag import InputBag
 from pvfilter.bag.inputs_pass import BagInputs, read_inputs
+from pvfilter.bag.outputs import open_output
 from pvfilter.bag.progress import Progress
+from pvfilter.bag.staging import staged_output
 from pvfilter.bag.wire import read_scan
 from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry
 from pvfilter.contract import ScanFilter
@@ -86,9 +89,9 @@ def filter_bag(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise ValueError(f"{out}: exists; give --force to replace it")
     start = time.perf_counter()  # the rate counts the reading and writing too
-    reader = open_reader(source)
+    bag = open_reader(source)
     try:
-        inputs = read_inputs(reader, args)  # checks topics and stamps before writing
+        inputs = read_inputs(bag, args)  # checks topics and stamps before writing
         missing = [name for name in entry.needs if name not in inputs.provides]
         if missing:
             raise ValueError(
@@ -96,10 +99,10 @@ def filter_bag(args: argparse.Namespace) -> int:
                 + ("--imu-topic" if "pitch_rad" in missing else "--odom-topic")
             )
         with staged_output(out, replace=args.force) as path:
-            removed, valid = _write(reader, source, path, inputs, scan_filter, args)
+            removed, valid = _write(bag, path, inputs, scan_filter, args)
         elapsed = time.perf_counter() - start
     finally:
-        reader.close()
+        bag.close()
     count = len(inputs.scan_stamps_ns)
     rate = count / elapsed if elapsed > 0 else float("inf")
     share = 100.0 * removed / valid if valid else 0.0
@@ -113,28 +116,19 @@ def filter_bag(args: argparse.Namespace) -> int:
 
 
 def _write(
-    reader: object,
-    source: Path,
-    path: Path,
-    inputs: BagInputs,
-    scan_filter: ScanFilter,
-    args: argparse.Namespace,
+    bag: InputBag, path: Path, inputs: BagInputs, scan_filter: ScanFilter, args: argparse.Namespace
 ) -> tuple[int, int]:
     """Copy every message, filter the scans; returns removed and valid beam counts."""
-    writer = BagWriter(reader, source, path)
-    scan_ids = {c.id for c in inputs.scan_connections}
-    copies = {c.id: writer.copy_connection(c) for c in reader.connections}
+    writer = open_output(bag, path)
     first = inputs.scan_connections[0]
-    filtered_out = writer.copy_connection(first, inputs.filtered_topic)
-    removed_out = writer.copy_connection(first, inputs.removed_topic)
+    filtered_out = writer.add_topic(first, inputs.filtered_topic)
+    removed_out = writer.add_topic(first, inputs.removed_topic)
     progress = Progress(len(inputs.scan_stamps_ns), "scans", quiet=args.quiet)
     removed_total = valid_total = 0
+    ros1 = not bag.is2
     try:
-        for connection, stamp_ns, raw in reader.messages():
-            writer.write(copies[connection.id], stamp_ns, raw)
-            if connection.id not in scan_ids:
-                continue
-            message = read_scan(raw, writer.ros1)
+        for _, stamp_ns, raw in writer.read_through(bag, inputs.scan_connections):
+            message = read_scan(raw, ros1)
             scan = scan_of(message, inputs.scan_topic, progress.done)
             result = scan_filter.process(scan, **inputs.at(message.stamp_ns))
             removed = np.asarray(result.removed, dtype=bool)
@@ -144,9 +138,13 @@ def _write(
             removed_total += int(np.count_nonzero(removed))
             valid_total += int(np.count_nonzero(scan.valid_mask()))
             progress.advance()
+    except BaseException:
+        writer.abort()
+        raise
+    else:
+        writer.close()
     finally:
         progress.close()
-        writer.close()
     return removed_total, valid_total
 
 

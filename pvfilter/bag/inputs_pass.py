@@ -2,8 +2,8 @@
 
 Everything that can be wrong with the request is found here, before an output is
 written: a topic that is missing or of the wrong type, scans stamped out of order, a
-mounting that no ``tf`` chain gives. The IMU and odometry samples are read field by field
-from their bytes (:mod:`pvfilter.bag.wire`), a few µs each.
+mounting that no ``tf`` chain gives. The IMU, odometry and tf samples are read field by
+field from their bytes (:mod:`pvfilter.bag.wire`), a few µs each.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from pvfilter.bag.wire import (
     read_odometry,
     read_orientation,
     read_scan,
+    read_transforms,
 )
 
 TF_TYPES = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
@@ -145,10 +146,8 @@ def read_inputs(reader: Any, args: argparse.Namespace) -> BagInputs:
             frames.setdefault("base", child)
             odom_rows.append((stamp, float(pose[0]), float(pose[1]), yaw_of(pose[3:])))
         elif mount is None:
-            for t in reader.deserialize(raw, connection.msgtype).transforms:
-                key = (t.header.frame_id.lstrip("/"), t.child_frame_id.lstrip("/"))
-                r, q = t.transform.translation, t.transform.rotation
-                transforms.setdefault(key, np.array([r.x, r.y, r.z, q.w, q.x, q.y, q.z]))
+            for parent, child, transform in read_transforms(raw, ros1):
+                transforms.setdefault((parent.lstrip("/"), child.lstrip("/")), transform)
             if len(frames) == 2:
                 mount = mount_in_base(transforms, frames["base"], frames["sensor"])
     if odom:

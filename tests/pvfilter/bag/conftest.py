@@ -30,16 +30,23 @@ def exported(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, Path
 
 
 def write_scans(
-    path: Path, stamps_s: list[float], topic: str = "/scan", storage: str = "MCAP"
+    path: Path,
+    stamps_s: list[float],
+    topic: str = "/scan",
+    storage: str = "MCAP",
+    compressed: bool = False,
 ) -> Path:
     """A rosbag2 (``storage``: MCAP or SQLITE3) with one LaserScan per stamp (a wall 2 m
-    ahead), in that order."""
-    from rosbags.rosbag2 import StoragePlugin, Writer
+    ahead), in that order; ``compressed``: as the storage compresses (zstd MCAP chunks)."""
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
     store = get_typestore(Stores.ROS2_HUMBLE)
     t = store.types
-    with Writer(path, version=9, storage_plugin=StoragePlugin[storage]) as writer:
+    writer = Writer(path, version=9, storage_plugin=StoragePlugin[storage])
+    if compressed:
+        writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
+    with writer:
         connection = writer.add_connection(topic, "sensor_msgs/msg/LaserScan", typestore=store)
         for i, stamp in enumerate(stamps_s):
             ns = round(stamp * 1e9)
