@@ -72,6 +72,8 @@ class Simulation:
         movers: people, pets, doors and light furniture in the house (none by default);
             the kinematic ones are posed whenever the LiDAR casts.
         balance: the balance controller (the LQR by default) and its stop brake.
+        start: where the robot starts, a spawn pose or ``(x_m, y_m, yaw_rad)`` (default:
+            the house's first spawn pose).
     """
 
     def __init__(
@@ -87,6 +89,7 @@ class Simulation:
         odometry: OdometryConfig = OdometryConfig(),  # noqa: B008
         movers: MoverSet | None = None,
         balance: BalanceConfig | None = None,
+        start: SpawnPose | tuple[float, float, float] | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
@@ -104,9 +107,9 @@ class Simulation:
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
         self._seed = seed
-        self.reset(
-            house.spawn_poses[0] if house.spawn_poses else SpawnPose(0.0, 0.0, 0.0, 0.0, 0.0), seed
-        )
+        if start is None:  # the spawn search runs only here, when no start is given
+            start = house.spawn_poses[0] if house.spawn_poses else (0.0, 0.0, 0.0)
+        self.reset(start, seed)
 
     # -- state ---------------------------------------------------------------------------
 
