@@ -52,10 +52,13 @@ class RobotTruth:
     imu_quat: np.ndarray  # (w, x, y, z), IMU frame orientation in the world
 
     def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
+        for name in _TRUTH_ARRAYS:  # a frame's worth of truths is built every scan
+            value = getattr(self, name)
             if isinstance(value, np.ndarray):
-                object.__setattr__(self, f.name, _frozen(value, np.float64))
+                object.__setattr__(self, name, _frozen(value, np.float64))
+
+
+_TRUTH_ARRAYS = tuple(f.name for f in dataclasses.fields(RobotTruth) if "ndarray" in str(f.type))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)

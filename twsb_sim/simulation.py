@@ -36,6 +36,10 @@ from twsb_sim.sensors import (
 # MuJoCo's answer to a diverging simulation: it warns, then resets the state (time 0, the
 # model's origin), and stepping goes on as if nothing happened
 DIVERGENCE_WARNINGS = ("BADQACC", "BADQVEL", "BADQPOS")
+_DIVERGENCE_INDICES = sorted(  # in MuJoCo's order, as mujoco_warnings() lists them
+    ((name, int(getattr(mujoco.mjtWarning, f"mjWARN_{name}"))) for name in DIVERGENCE_WARNINGS),
+    key=lambda item: item[1],
+)
 
 
 class RobotFell(RuntimeError):
@@ -157,8 +161,9 @@ class Simulation:
     def divergence(self) -> str | None:
         """Why the physics can no longer be trusted (None while it can): MuJoCo met a NaN,
         an infinity or a huge value and reset the state, or a coordinate is not finite."""
-        for name in self.mujoco_warnings():
-            if name in DIVERGENCE_WARNINGS:
+        counts = self.data.warning.number
+        for name, index in _DIVERGENCE_INDICES:
+            if counts[index]:
                 return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
         if not np.isfinite(self.data.qpos).all() or not np.isfinite(self.data.qvel).all():
             return "a position or velocity is not finite"
@@ -314,10 +319,11 @@ class Simulation:
         """The robot's true state now."""
         data, handles = self.data, self.handles
         state = handles.read_balance_state(data)
-        gyro, accel, quat = handles.read_imu(data)
         a = handles.qpos_adr
         base = data.qpos[a : a + 7]
-        return RobotTruth(
+        sensordata, imu = data.sensordata, handles.imu_slices
+        site = handles.lidar_site_id
+        return RobotTruth(  # the arrays are views: RobotTruth keeps read-only copies
             stamp_s=self.time_s,
             position_base_in_world=base[:3],
             quat_base_in_world=base[3:],
@@ -334,9 +340,9 @@ class Simulation:
             command_velocity_mps=self.command[0],
             command_yaw_rate_rad_s=self.command[1],
             shove_active=self.shove_active,
-            position_sensor_in_world=data.site_xpos[handles.lidar_site_id],
-            rotation_sensor_to_world=data.site_xmat[handles.lidar_site_id].reshape(3, 3),
-            imu_gyro_rad_s=np.array(gyro),
-            imu_accel_mps2=np.array(accel),
-            imu_quat=np.array(quat),
+            position_sensor_in_world=data.site_xpos[site],
+            rotation_sensor_to_world=data.site_xmat[site].reshape(3, 3),
+            imu_gyro_rad_s=sensordata[imu["imu_gyro"]],
+            imu_accel_mps2=sensordata[imu["imu_accel"]],
+            imu_quat=sensordata[imu["imu_quat"]],
         )

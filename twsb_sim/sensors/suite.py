@@ -131,7 +131,7 @@ class SensorSuite:
     def _sample_times(self, next_index: int, period: float, last: float) -> np.ndarray:
         """The times of the samples ``next_index, ...`` taken no later than ``last``."""
         stop = math.floor((last - self.t0) / period + _EPS) + 1
-        return np.array([self.t0 + k * period for k in range(next_index, stop)])
+        return self.t0 + np.arange(next_index, max(stop, next_index)) * period
 
     def _interpolate(self, times: np.ndarray, columns: slice, on_steps: bool) -> np.ndarray:
         """The recorded columns at ``times`` (within the recorded span), linearly;
