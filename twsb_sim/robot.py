@@ -134,6 +134,9 @@ class BalanceState(NamedTuple):
     right_wheel_speed_rad_s: float
 
 
+_new_tuple = tuple.__new__
+
+
 class RobotHandles:
     """Addresses of the robot's elements in a compiled model, resolved once by name.
 
@@ -186,8 +189,10 @@ class RobotHandles:
         yaw_rate = (sin_roll * wy + cos_roll * wz) / math.cos(pitch)
         forward_velocity = math.cos(yaw) * vx + math.sin(yaw) * vy
         left, right = self.wheel_qvel_adr
-        return BalanceState(
-            pitch, pitch_rate, forward_velocity, yaw, yaw_rate, roll, qvel[left], qvel[right]
+        # tuple.__new__ skips the NamedTuple's Python-level __new__: 0.2 us of ~1.5 us
+        return _new_tuple(
+            BalanceState,
+            (pitch, pitch_rate, forward_velocity, yaw, yaw_rate, roll, qvel[left], qvel[right]),
         )
 
     def _bind(self, data: mujoco.MjData) -> None:

@@ -101,6 +101,9 @@ class Simulation:
         self.model = build_model(house, robot, self.movers)
         self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
+        # views into data, made once (reset keeps its buffers): checked at every breakpoint
+        self._warning_counts = self.data.warning.number
+        self._qpos, self._qvel = self.data.qpos, self.data.qvel
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
         self.sensors = SensorSuite(
@@ -152,7 +155,7 @@ class Simulation:
 
     def mujoco_warnings(self) -> dict[str, int]:
         """MuJoCo's warnings since the last reset, by name (empty when all is well)."""
-        counts = self.data.warning.number  # one array read: the per-item loop costs 0.2 ms
+        counts = self._warning_counts  # one array read: the per-item loop costs 0.2 ms
         return {
             mujoco.mjtWarning(i).name.removeprefix("mjWARN_"): int(counts[i])
             for i in np.flatnonzero(counts)
@@ -161,11 +164,11 @@ class Simulation:
     def divergence(self) -> str | None:
         """Why the physics can no longer be trusted (None while it can): MuJoCo met a NaN,
         an infinity or a huge value and reset the state, or a coordinate is not finite."""
-        counts = self.data.warning.number
+        counts = self._warning_counts
         for name, index in _DIVERGENCE_INDICES:
             if counts[index]:
                 return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
-        if not np.isfinite(self.data.qpos).all() or not np.isfinite(self.data.qvel).all():
+        if not np.isfinite(self._qpos).all() or not np.isfinite(self._qvel).all():
             return "a position or velocity is not finite"
         return None
 
@@ -197,7 +200,7 @@ class Simulation:
         This is the hot loop: per step only the controller, ``mj_step`` and one copy of
         the sensor data run.
         """
-        model, data, apply = self.model, self.data, self.controller.apply
+        model, data, apply, step = self.model, self.data, self.controller.apply, mujoco.mj_step
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
@@ -211,7 +214,7 @@ class Simulation:
                 max_pitch = abs(pitch)
             if shove is not None:
                 self._apply_shove(shove)
-            mujoco.mj_step(model, data)
+            step(model, data)
             if n == capacity:
                 sensors.count = n
                 sensors.flush_full()
