@@ -17,6 +17,16 @@ from twsb_sim.sensors.readings import Attitude, SensorReadings
 
 
 def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
+    """A read-only array of ``dtype``: ``array`` itself when nothing can change it any more
+    (read-only, and so is the array it views: the simulator's own frame arrays), else a
+    read-only copy."""
+    if (
+        isinstance(array, np.ndarray)
+        and array.dtype == dtype
+        and not array.flags.writeable
+        and (array.base is None or not getattr(array.base, "flags", array.flags).writeable)
+    ):
+        return array
     array = np.array(array, dtype=dtype)
     array.flags.writeable = False
     return array

@@ -379,7 +379,7 @@ class Lidar:
         )
         readings = lidar_errors.quantised(readings, cfg.range_resolution_m)
         ranges_useful = np.minimum(np.maximum(readings, cfg.range_min_m), cfg.range_max_m)
-        ranges_useful[(dist < cfg.range_min_m) & ~miss] = -np.inf
+        ranges_useful[dist < cfg.range_min_m] = -np.inf
         ranges_useful[no_return] = np.inf  # after -inf: a miss reports dist = -1
 
         points_useful = origins + dirs * dist[:, None]

@@ -297,6 +297,8 @@ class Simulation:
         else:
             reading = lidar.scan(self.data, self.noise_rng)
         labels = self.level_view.relabel(self.data, reading)
+        for array in (labels, reading.hit_points_world, reading.geom_ids):
+            array.flags.writeable = False  # made for this frame alone: Frame keeps, not copies
         scan = Scan(
             ranges=reading.ranges,
             angle_min=self.lidar.angle_min,
@@ -322,30 +324,39 @@ class Simulation:
         """The robot's true state now."""
         data, handles = self.data, self.handles
         state = handles.read_balance_state(data)
-        a = handles.qpos_adr
-        base = data.qpos[a : a + 7]
-        sensordata, imu = data.sensordata, handles.imu_slices
-        site = handles.lidar_site_id
-        return RobotTruth(  # the arrays are views: RobotTruth keeps read-only copies
+        a, site = handles.qpos_adr, handles.lidar_site_id
+        ctrl, sensordata, imu = data.ctrl, data.sensordata, handles.imu_slices
+        left, right = handles.actuator_ids
+        # every array of the truth in one read-only block (one copy, not nine): RobotTruth
+        # keeps views of it as they are
+        block = np.concatenate((
+            data.qpos[a : a + 7],  # 0:3 position, 3:7 quaternion
+            (state.left_wheel_speed_rad_s, state.right_wheel_speed_rad_s, ctrl[left], ctrl[right]),
+            data.site_xpos[site],  # 11:14
+            data.site_xmat[site],  # 14:23
+            sensordata[imu["imu_gyro"]],  # 23:26
+            sensordata[imu["imu_accel"]],  # 26:29
+            sensordata[imu["imu_quat"]],  # 29:33
+        ))  # fmt: skip
+        block.flags.writeable = False
+        return RobotTruth(
             stamp_s=self.time_s,
-            position_base_in_world=base[:3],
-            quat_base_in_world=base[3:],
+            position_base_in_world=block[0:3],
+            quat_base_in_world=block[3:7],
             yaw_rad=state.yaw_rad,
             pitch_rad=state.pitch_rad,
             roll_rad=state.roll_rad,
             pitch_rate_rad_s=state.pitch_rate_rad_s,
             forward_velocity_mps=state.forward_velocity_mps,
             yaw_rate_rad_s=state.yaw_rate_rad_s,
-            wheel_speeds_rad_s=np.array(
-                [state.left_wheel_speed_rad_s, state.right_wheel_speed_rad_s]
-            ),
-            wheel_torques_nm=data.ctrl[list(handles.actuator_ids)],
+            wheel_speeds_rad_s=block[7:9],
+            wheel_torques_nm=block[9:11],
             command_velocity_mps=self.command[0],
             command_yaw_rate_rad_s=self.command[1],
             shove_active=self.shove_active,
-            position_sensor_in_world=data.site_xpos[site],
-            rotation_sensor_to_world=data.site_xmat[site].reshape(3, 3),
-            imu_gyro_rad_s=sensordata[imu["imu_gyro"]],
-            imu_accel_mps2=sensordata[imu["imu_accel"]],
-            imu_quat=sensordata[imu["imu_quat"]],
+            position_sensor_in_world=block[11:14],
+            rotation_sensor_to_world=block[14:23].reshape(3, 3),
+            imu_gyro_rad_s=block[23:26],
+            imu_accel_mps2=block[26:29],
+            imu_quat=block[29:33],
         )

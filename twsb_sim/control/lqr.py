@@ -87,17 +87,15 @@ class LqrController:
         Returns:
             ``(left, right)`` wheel torques in N·m, saturated at the motor limit.
         """
-        s = self._read(data)
-        self.last_pitch_rad = s.pitch_rad  # the loop tracks the peak pitch without re-reading
+        # one unpacking of the state tuple: cheaper than four attribute reads, every step
+        pitch, pitch_rate, forward_velocity, _, yaw_rate, _, _, _ = self._read(data)
+        self.last_pitch_rad = pitch  # the loop tracks the peak pitch without re-reading
         k0, k1, k2, k3 = self._k
         ky0, ky1 = self._k_yaw
-        velocity_error = s.forward_velocity_mps - velocity_command_mps
-        yaw_rate_error = s.yaw_rate_rad_s - yaw_rate_command_rad_s
+        velocity_error = forward_velocity - velocity_command_mps
+        yaw_rate_error = yaw_rate - yaw_rate_command_rad_s
         common = self._ff_velocity * velocity_command_mps - (
-            k0 * s.pitch_rad
-            + k1 * s.pitch_rate_rad_s
-            + k2 * velocity_error
-            + k3 * self.velocity_error_integral_m
+            k0 * pitch + k1 * pitch_rate + k2 * velocity_error + k3 * self.velocity_error_integral_m
         )
         differential = self._ff_yaw_rate * yaw_rate_command_rad_s - (
             ky0 * yaw_rate_error + ky1 * self.yaw_rate_error_integral_rad

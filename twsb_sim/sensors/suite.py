@@ -185,6 +185,9 @@ class SensorSuite:
         c, s = math.cos(yaw), math.sin(yaw)
         dx, dy = self._lidar_offset
         lidar = np.array([x + c * dx - s * dy, y + s * dx + c * dy, yaw])
+        attitude, twist = self.attitude_at(stamp_s), self.twist_at(stamp_s)
+        for array in (base, lidar, attitude, twist):
+            array.flags.writeable = False  # made for these readings: kept, not copied again
         readings = SensorReadings(
             imu=ImuSamples(
                 stamps_s=imu[:, 0],
@@ -195,10 +198,10 @@ class SensorSuite:
             odometry=OdometrySamples(
                 stamps_s=odom[:, 0], pose_odom=odom[:, 1:4], twist=odom[:, 4:6]
             ),
-            attitude_rpy_rad=self.attitude_at(stamp_s),
+            attitude_rpy_rad=attitude,
             pose_base_in_odom=base,
             pose_lidar_in_odom=lidar,
-            twist=self.twist_at(stamp_s),
+            twist=twist,
         )
         old = min(stamp_s, now_s) - LOOKUP_HISTORY_S  # both are in time order
         self._recent_imu = self._recent_imu[np.searchsorted(self._recent_imu[:, 0], old) :]
