@@ -11,6 +11,7 @@ it, with the robot's truth at the scan's stamp and what its IMU and encoders rep
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -200,15 +201,19 @@ class Simulation:
         This is the hot loop: per step only the controller, ``mj_step`` and one copy of
         the sensor data run.
         """
-        model, data, apply, step = self.model, self.data, self.controller.apply, mujoco.mj_step
+        model, data, step = self.model, self.data, mujoco.mj_step
+        controller = self.controller
+        # the controller's apply bound to data, where it offers one (the LQR: everything
+        # it needs looked up once, not every step)
+        bind = getattr(controller, "bind", None)
+        control = bind(data) if bind is not None else functools.partial(controller.apply, data)
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
-        controller = self.controller
         sensors, sensordata = self.sensors, data.sensordata
         rows, n, capacity = sensors.rows, sensors.count, len(sensors.rows)
         for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
-            apply(data, v, w)
+            control(v, w)
             pitch = controller.last_pitch_rad
             if pitch > max_pitch or -pitch > max_pitch:
                 max_pitch = abs(pitch)
