@@ -11,7 +11,6 @@ it, with the robot's truth at the scan's stamp and what its IMU and encoders rep
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 from dataclasses import dataclass
 
@@ -19,7 +18,7 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
-from twsb_sim.control.balance import BalanceConfig, make_balance_controller
+from twsb_sim.control.balance import BalanceConfig, bound_control, make_balance_controller
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
@@ -203,10 +202,7 @@ class Simulation:
         """
         model, data, step = self.model, self.data, mujoco.mj_step
         controller = self.controller
-        # the controller's apply bound to data, where it offers one (the LQR: everything
-        # it needs looked up once, not every step)
-        bind = getattr(controller, "bind", None)
-        control = bind(data) if bind is not None else functools.partial(controller.apply, data)
+        control = bound_control(controller, data)  # everything it needs looked up once
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
