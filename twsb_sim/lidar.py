@@ -235,11 +235,28 @@ class Lidar:
         # slices copy a reading into the full scan faster than a gather by index
         starts = np.flatnonzero(np.concatenate(([True], ~self._adjacent))).tolist()
         ends = [*starts[1:], self._useful_idx.size]
-        self._runs = [  # (first beam, beam after the last, first useful, useful after the last)
+        runs = [  # (first beam, beam after the last, first useful, useful after the last)
             (int(self._useful_idx[a]), int(self._useful_idx[a]) + b - a, a, b)
             for a, b in zip(starts, ends, strict=True)
             if b > a
         ]
+        # the full scan as pieces, in beam order: (useful?, start, stop) of a useful-beam
+        # array or of a blocked-beam fill; one concatenate builds each full-scan array
+        self._pieces: list[tuple[bool, int, int]] = []
+        beam = 0
+        for lo, hi, a, b in runs:
+            if lo > beam:
+                self._pieces.append((False, 0, lo - beam))
+            self._pieces.append((True, a, b))
+            beam = hi
+        if beam < n:
+            self._pieces.append((False, 0, n - beam))
+        self._blocked_fill = (  # ranges, labels, geom ids, hit points of blocked beams
+            np.full(n, -np.inf),  # the leg is closer than range_min
+            np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8),
+            np.full(n, -1, dtype=np.int32),
+            np.full((n, 3), np.nan),
+        )
         angles = self.angles[self._useful_idx]
         self._dirs_sensor = np.stack((np.cos(angles), np.sin(angles), np.zeros_like(angles)), -1)
         self._dirs_world = np.empty_like(self._dirs_sensor)
@@ -385,14 +402,16 @@ class Lidar:
         points_useful = origins + dirs * dist[:, None]
         points_useful[no_return] = np.nan
 
-        n = self.num_beams
-        ranges = np.full(n, -np.inf)  # blocked beams: the leg is closer than range_min
-        labels = np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8)
-        geom_ids = np.full(n, -1, dtype=np.int32)
-        points = np.full((n, 3), np.nan)
-        for lo, hi, a, b in self._runs:
-            ranges[lo:hi] = ranges_useful[a:b]
-            labels[lo:hi] = labels_useful[a:b]
-            geom_ids[lo:hi] = geom[a:b]
-            points[lo:hi] = points_useful[a:b]
+        fill_ranges, fill_labels, fill_geoms, fill_points = self._blocked_fill
+        ranges = self._full_scan(ranges_useful, fill_ranges)
+        labels = self._full_scan(labels_useful, fill_labels)
+        geom_ids = self._full_scan(geom, fill_geoms)
+        points = self._full_scan(points_useful, fill_points)
         return LidarReading(ranges, labels, points, geom_ids, position, rotation, stamp, origins)
+
+    def _full_scan(self, useful: np.ndarray, blocked: np.ndarray) -> np.ndarray:
+        """A new all-beam array: the useful beams' values, the blocked beams' from
+        ``blocked``, in beam order (one concatenate of slices, no gather by index)."""
+        return np.concatenate(
+            [useful[a:b] if is_useful else blocked[a:b] for is_useful, a, b in self._pieces]
+        )
