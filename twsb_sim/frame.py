@@ -24,7 +24,10 @@ def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
         isinstance(array, np.ndarray)
         and array.dtype == dtype
         and not array.flags.writeable
-        and (array.base is None or not getattr(array.base, "flags", array.flags).writeable)
+        and (
+            array.base is None
+            or (isinstance(array.base, np.ndarray) and not array.base.flags.writeable)
+        )
     ):
         return array
     array = np.array(array, dtype=dtype)
