@@ -17,6 +17,19 @@ from twsb_sim.sensors.readings import Attitude, SensorReadings
 
 
 def _frozen(array: np.ndarray, dtype: type) -> np.ndarray:
+    """A read-only array of ``dtype``: ``array`` itself when nothing can change it any more
+    (read-only, and so is the array it views: the simulator's own frame arrays), else a
+    read-only copy."""
+    if (
+        isinstance(array, np.ndarray)
+        and array.dtype == dtype
+        and not array.flags.writeable
+        and (
+            array.base is None
+            or (isinstance(array.base, np.ndarray) and not array.base.flags.writeable)
+        )
+    ):
+        return array
     array = np.array(array, dtype=dtype)
     array.flags.writeable = False
     return array
@@ -52,10 +65,13 @@ class RobotTruth:
     imu_quat: np.ndarray  # (w, x, y, z), IMU frame orientation in the world
 
     def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
+        for name in _TRUTH_ARRAYS:  # a frame's worth of truths is built every scan
+            value = getattr(self, name)
             if isinstance(value, np.ndarray):
-                object.__setattr__(self, f.name, _frozen(value, np.float64))
+                object.__setattr__(self, name, _frozen(value, np.float64))
+
+
+_TRUTH_ARRAYS = tuple(f.name for f in dataclasses.fields(RobotTruth) if "ndarray" in str(f.type))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)

@@ -231,6 +231,32 @@ class Lidar:
         self.useful = ~blocked  # bool[n]
         self._useful_idx = np.flatnonzero(self.useful)
         self._adjacent = np.diff(self._useful_idx) == 1  # neighbours in angle, for mixed pixels
+        # the useful beams as runs of consecutive beams (one or two for one blocked sector):
+        # slices copy a reading into the full scan faster than a gather by index
+        starts = np.flatnonzero(np.concatenate(([True], ~self._adjacent))).tolist()
+        ends = [*starts[1:], self._useful_idx.size]
+        runs = [  # (first beam, beam after the last, first useful, useful after the last)
+            (int(self._useful_idx[a]), int(self._useful_idx[a]) + b - a, a, b)
+            for a, b in zip(starts, ends, strict=True)
+            if b > a
+        ]
+        # the full scan as pieces, in beam order: (useful?, start, stop) of a useful-beam
+        # array or of a blocked-beam fill; one concatenate builds each full-scan array
+        self._pieces: list[tuple[bool, int, int]] = []
+        beam = 0
+        for lo, hi, a, b in runs:
+            if lo > beam:
+                self._pieces.append((False, 0, lo - beam))
+            self._pieces.append((True, a, b))
+            beam = hi
+        if beam < n:
+            self._pieces.append((False, 0, n - beam))
+        self._blocked_fill = (  # ranges, labels, geom ids, hit points of blocked beams
+            np.full(n, -np.inf),  # the leg is closer than range_min
+            np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8),
+            np.full(n, -1, dtype=np.int32),
+            np.full((n, 3), np.nan),
+        )
         angles = self.angles[self._useful_idx]
         self._dirs_sensor = np.stack((np.cos(angles), np.sin(angles), np.zeros_like(angles)), -1)
         self._dirs_world = np.empty_like(self._dirs_sensor)
@@ -255,6 +281,7 @@ class Lidar:
         self._geom_ids = np.empty(m, dtype=np.int32)
         self._dist = np.empty(m, dtype=np.float64)
         self._normals = np.empty(3 * m, dtype=np.float64)
+        self._along = np.empty(m, dtype=np.float64)  # normal . direction of each beam
 
     def scan(self, data: mujoco.MjData, rng: np.random.Generator) -> LidarReading:
         """Cast every beam at once from the site's current pose (run mj_forward first).
@@ -306,32 +333,34 @@ class Lidar:
         dirs: np.ndarray,
         groups: list[np.ndarray] | None,
     ) -> None:
-        """Fill ``_geom_ids``, ``_dist`` (from each beam's own origin) and ``_normals``."""
+        """Fill ``_geom_ids``, ``_dist`` (from each beam's own origin), ``_normals`` and
+        ``_along`` (each hit normal dotted with its beam's direction)."""
         cfg = self.config
+        normals = self._normals.reshape(-1, 3)
         if groups is None:  # one origin for all: one call
             mujoco.mj_multiRay(
                 self.model, data, origins, dirs.reshape(-1), self.geomgroup, 1, -1,
                 self._geom_ids, self._dist, self._normals, len(dirs), cfg.range_max_m,
             )  # fmt: skip
+            np.einsum("ij,ij->i", normals, dirs, out=self._along)
             return
         # a multi-ray call costs ~50 us whatever its size: a few calls, then the plane fix
-        cast_from = np.empty_like(origins)
+        offsets = np.empty_like(origins)  # each beam's origin from where its group was cast
         for beams in groups:
             lo, hi = beams[0], beams[-1] + 1  # each group is a contiguous run of beams
             mid = lo + (hi - lo) // 2
-            cast_from[lo:hi] = origins[mid]
+            np.subtract(origins[lo:hi], origins[mid], out=offsets[lo:hi])
             mujoco.mj_multiRay(
                 self.model, data, origins[mid].copy(), dirs[lo:hi].reshape(-1), self.geomgroup,
                 1, -1, self._geom_ids[lo:hi], self._dist[lo:hi], self._normals[3 * lo : 3 * hi],
                 hi - lo, cfg.range_max_m,
             )  # fmt: skip
         # a plane n.x = c hit from p0 at range r is hit from p0 + d at r - n.d / n.u
-        normals = self._normals.reshape(-1, 3)
-        hit = self._geom_ids >= 0
-        along = np.einsum("ij,ij->i", normals, dirs)
-        shift = np.einsum("ij,ij->i", normals, origins - cast_from)
-        fix = hit & (np.abs(along) > 1e-9)
-        self._dist[fix] -= shift[fix] / along[fix]
+        along = np.einsum("ij,ij->i", normals, dirs, out=self._along)
+        shift = np.einsum("ij,ij->i", normals, offsets)
+        fix = (self._geom_ids >= 0) & (np.abs(along) > 1e-9)
+        np.divide(shift, along, out=shift, where=fix)
+        np.subtract(self._dist, shift, out=self._dist, where=fix)
 
     def _reading(
         self,
@@ -343,42 +372,46 @@ class Lidar:
         stamp: float,
     ) -> LidarReading:
         """Labels, errors and REP-117 encoding of the cast in ``_geom_ids``/``_dist``."""
-        cfg, idx = self.config, self._useful_idx
+        cfg, m = self.config, self._useful_idx.size
         dist = self._dist
-        normals = self._normals.reshape(-1, 3)
-        normal_draws = rng.standard_normal(idx.size)  # fixed counts per scan
-        uniforms = rng.random((_RANDOM_ROWS, idx.size))
+        normal_draws = rng.standard_normal(m)  # fixed counts per scan
+        uniforms = rng.random((_RANDOM_ROWS, m))
         miss = (self._geom_ids < 0) | (dist > cfg.range_max_m)
-        cos_incidence = np.abs(np.einsum("ij,ij->i", normals, dirs))
-        lost = ~miss & lidar_errors.dropped_returns(cos_incidence, uniforms[:2], cfg)
-        no_return = miss | lost
-        geom = np.where(no_return, -1, self._geom_ids).astype(np.int32)
+        cos_incidence = np.abs(self._along)
+        lost = lidar_errors.dropped_returns(cos_incidence, uniforms[:2], cfg)
+        no_return = miss | lost  # (a miss that is also "lost" is a miss all the same)
+        returned = ~no_return
+        geom = np.where(no_return, np.int32(-1), self._geom_ids)
 
         # labels from the noiseless hit and the surface normal
         labels_useful = self._label_by_geom[geom]
-        horizontal = np.abs(normals[:, 2]) >= cfg.horizontal_normal_min_z
-        labels_useful[horizontal & (labels_useful == BeamLabel.STATIC)] = BeamLabel.HORIZONTAL
+        horizontal = np.abs(self._normals[2::3]) >= cfg.horizontal_normal_min_z
+        horizontal &= labels_useful == BeamLabel.STATIC
+        labels_useful[horizontal] = BeamLabel.HORIZONTAL
 
         # reading errors perturb returns only; a return stays within [range_min, range_max]
         readings = lidar_errors.noisy_ranges(dist, normal_draws, cfg)
         readings = lidar_errors.mix_edges(
-            readings, dist, ~no_return, self._adjacent, uniforms[2:, :-1], cfg
+            readings, dist, returned, self._adjacent, uniforms[2:, :-1], cfg
         )
         readings = lidar_errors.quantised(readings, cfg.range_resolution_m)
         ranges_useful = np.minimum(np.maximum(readings, cfg.range_min_m), cfg.range_max_m)
-        ranges_useful[~miss & (dist < cfg.range_min_m)] = -np.inf
+        ranges_useful[dist < cfg.range_min_m] = -np.inf
         ranges_useful[no_return] = np.inf  # after -inf: a miss reports dist = -1
 
         points_useful = origins + dirs * dist[:, None]
         points_useful[no_return] = np.nan
 
-        n = self.num_beams
-        ranges = np.full(n, -np.inf)  # blocked beams: the leg is closer than range_min
-        ranges[idx] = ranges_useful
-        labels = np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8)
-        labels[idx] = labels_useful
-        geom_ids = np.full(n, -1, dtype=np.int32)
-        geom_ids[idx] = geom
-        points = np.full((n, 3), np.nan)
-        points[idx] = points_useful
+        fill_ranges, fill_labels, fill_geoms, fill_points = self._blocked_fill
+        ranges = self._full_scan(ranges_useful, fill_ranges)
+        labels = self._full_scan(labels_useful, fill_labels)
+        geom_ids = self._full_scan(geom, fill_geoms)
+        points = self._full_scan(points_useful, fill_points)
         return LidarReading(ranges, labels, points, geom_ids, position, rotation, stamp, origins)
+
+    def _full_scan(self, useful: np.ndarray, blocked: np.ndarray) -> np.ndarray:
+        """A new all-beam array: the useful beams' values, the blocked beams' from
+        ``blocked``, in beam order (one concatenate of slices, no gather by index)."""
+        return np.concatenate(
+            [useful[a:b] if is_useful else blocked[a:b] for is_useful, a, b in self._pieces]
+        )

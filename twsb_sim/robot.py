@@ -9,6 +9,7 @@ not move the wheels. Positive pitch is a rotation about the body's y axis: nose 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple
@@ -134,6 +135,9 @@ class BalanceState(NamedTuple):
     right_wheel_speed_rad_s: float
 
 
+_new_tuple = tuple.__new__
+
+
 class RobotHandles:
     """Addresses of the robot's elements in a compiled model, resolved once by name.
 
@@ -163,36 +167,53 @@ class RobotHandles:
             )
             for name in IMU_SENSORS
         }
+        self._data: mujoco.MjData | None = None  # the data self._read is bound to
 
     def read_balance_state(self, data: mujoco.MjData) -> BalanceState:
         """The balance state now, from ``qpos`` and ``qvel`` alone (cheap: every step)."""
-        a = self.qpos_adr
-        b = self.qvel_adr
-        qw, qx, qy, qz = data.qpos[a + 3 : a + 7].tolist()
-        qvel = data.qvel.tolist()  # one conversion: cheaper than a slice and two .item()
-        vx, vy, _, _, wy, wz = qvel[b : b + 6]
-        # ZYX (yaw, pitch, roll) angles of the body frame
-        sin_pitch = 2.0 * (qw * qy - qx * qz)
-        sin_pitch = 1.0 if sin_pitch > 1.0 else (-1.0 if sin_pitch < -1.0 else sin_pitch)
-        pitch = math.asin(sin_pitch)
-        yaw = math.atan2(2.0 * (qx * qy + qw * qz), 1.0 - 2.0 * (qy * qy + qz * qz))
-        roll = math.atan2(2.0 * (qy * qz + qw * qx), 1.0 - 2.0 * (qx * qx + qy * qy))
-        sin_roll = math.sin(roll)
-        cos_roll = math.cos(roll)
-        # Euler-angle rates from the body-frame angular velocity
-        pitch_rate = cos_roll * wy - sin_roll * wz
-        yaw_rate = (sin_roll * wy + cos_roll * wz) / math.cos(pitch)
-        forward_velocity = math.cos(yaw) * vx + math.sin(yaw) * vy
-        return BalanceState(
-            pitch,
-            pitch_rate,
-            forward_velocity,
-            yaw,
-            yaw_rate,
-            roll,
-            qvel[self.wheel_qvel_adr[0]],
-            qvel[self.wheel_qvel_adr[1]],
-        )
+        if data is not self._data:
+            self._data, self._read = data, self.state_reader(data)
+        # tuple.__new__ skips the NamedTuple's Python-level __new__: 0.2 us of ~1.5 us
+        return _new_tuple(BalanceState, self._read())
+
+    def state_reader(self, data: mujoco.MjData) -> Callable[[], tuple[float, ...]]:
+        """A function returning ``data``'s balance state as a plain tuple, in the order of
+        :class:`BalanceState`: what the controllers call every physics step. ``data``'s
+        arrays, the addresses and the math functions are bound once (each ``data.qpos``
+        access builds a new array object)."""
+        a, b = self.qpos_adr, self.qvel_adr
+        quat, qvel_array = data.qpos[a + 3 : a + 7], data.qvel
+        left, right = self.wheel_qvel_adr
+        asin, atan2, sin, cos = math.asin, math.atan2, math.sin, math.cos
+
+        def read() -> tuple[float, ...]:
+            qw, qx, qy, qz = quat.tolist()
+            qvel = qvel_array.tolist()  # one conversion: cheaper than a slice and two .item()
+            vx, vy, _, _, wy, wz = qvel[b : b + 6]
+            # ZYX (yaw, pitch, roll) angles of the body frame
+            sin_pitch = 2.0 * (qw * qy - qx * qz)
+            sin_pitch = 1.0 if sin_pitch > 1.0 else (-1.0 if sin_pitch < -1.0 else sin_pitch)
+            pitch = asin(sin_pitch)
+            yaw = atan2(2.0 * (qx * qy + qw * qz), 1.0 - 2.0 * (qy * qy + qz * qz))
+            roll = atan2(2.0 * (qy * qz + qw * qx), 1.0 - 2.0 * (qx * qx + qy * qy))
+            sin_roll = sin(roll)
+            cos_roll = cos(roll)
+            # Euler-angle rates from the body-frame angular velocity
+            pitch_rate = cos_roll * wy - sin_roll * wz
+            yaw_rate = (sin_roll * wy + cos_roll * wz) / cos(pitch)
+            forward_velocity = cos(yaw) * vx + sin(yaw) * vy
+            return (
+                pitch,
+                pitch_rate,
+                forward_velocity,
+                yaw,
+                yaw_rate,
+                roll,
+                qvel[left],
+                qvel[right],
+            )
+
+        return read
 
     def read_imu(self, data: mujoco.MjData) -> tuple[list[float], list[float], list[float]]:
         """The IMU's readings (``data.sensordata``, valid after ``mj_forward``/``mj_step``).

@@ -117,10 +117,10 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
             odometry=scenario.odometry,
             movers=mover_set,
             balance=scenario.balance,
+            start=start,
         )
     except UnstableClosedLoopError as error:
         raise ConfigError(scenario.source, "controller", str(error)) from None
-    sim.reset(start, seed)
     return sim
 
 

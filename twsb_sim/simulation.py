@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
-from twsb_sim.control.balance import BalanceConfig, make_balance_controller
+from twsb_sim.control.balance import BalanceConfig, bound_control, make_balance_controller
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
@@ -36,6 +36,10 @@ from twsb_sim.sensors import (
 # MuJoCo's answer to a diverging simulation: it warns, then resets the state (time 0, the
 # model's origin), and stepping goes on as if nothing happened
 DIVERGENCE_WARNINGS = ("BADQACC", "BADQVEL", "BADQPOS")
+_DIVERGENCE_INDICES = sorted(  # in MuJoCo's order, as mujoco_warnings() lists them
+    ((name, int(getattr(mujoco.mjtWarning, f"mjWARN_{name}"))) for name in DIVERGENCE_WARNINGS),
+    key=lambda item: item[1],
+)
 
 
 class RobotFell(RuntimeError):
@@ -72,6 +76,8 @@ class Simulation:
         movers: people, pets, doors and light furniture in the house (none by default);
             the kinematic ones are posed whenever the LiDAR casts.
         balance: the balance controller (the LQR by default) and its stop brake.
+        start: where the robot starts, a spawn pose or ``(x_m, y_m, yaw_rad)`` (default:
+            the house's first spawn pose).
     """
 
     def __init__(
@@ -87,6 +93,7 @@ class Simulation:
         odometry: OdometryConfig = OdometryConfig(),  # noqa: B008
         movers: MoverSet | None = None,
         balance: BalanceConfig | None = None,
+        start: SpawnPose | tuple[float, float, float] | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
@@ -94,6 +101,9 @@ class Simulation:
         self.model = build_model(house, robot, self.movers)
         self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
+        # views into data, made once (reset keeps its buffers): checked at every breakpoint
+        self._warning_counts = self.data.warning.number
+        self._qpos, self._qvel = self.data.qpos, self.data.qvel
         self.handles = RobotHandles(self.model)
         self.lidar = Lidar(self.model, lidar)
         self.sensors = SensorSuite(
@@ -104,9 +114,9 @@ class Simulation:
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
         self.dt_s = float(self.model.opt.timestep)
         self._seed = seed
-        self.reset(
-            house.spawn_poses[0] if house.spawn_poses else SpawnPose(0.0, 0.0, 0.0, 0.0, 0.0), seed
-        )
+        if start is None:  # the spawn search runs only here, when no start is given
+            start = house.spawn_poses[0] if house.spawn_poses else (0.0, 0.0, 0.0)
+        self.reset(start, seed)
 
     # -- state ---------------------------------------------------------------------------
 
@@ -145,7 +155,7 @@ class Simulation:
 
     def mujoco_warnings(self) -> dict[str, int]:
         """MuJoCo's warnings since the last reset, by name (empty when all is well)."""
-        counts = self.data.warning.number  # one array read: the per-item loop costs 0.2 ms
+        counts = self._warning_counts  # one array read: the per-item loop costs 0.2 ms
         return {
             mujoco.mjtWarning(i).name.removeprefix("mjWARN_"): int(counts[i])
             for i in np.flatnonzero(counts)
@@ -154,10 +164,11 @@ class Simulation:
     def divergence(self) -> str | None:
         """Why the physics can no longer be trusted (None while it can): MuJoCo met a NaN,
         an infinity or a huge value and reset the state, or a coordinate is not finite."""
-        for name in self.mujoco_warnings():
-            if name in DIVERGENCE_WARNINGS:
+        counts = self._warning_counts
+        for name, index in _DIVERGENCE_INDICES:
+            if counts[index]:
                 return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
-        if not np.isfinite(self.data.qpos).all() or not np.isfinite(self.data.qvel).all():
+        if not np.isfinite(self._qpos).all() or not np.isfinite(self._qvel).all():
             return "a position or velocity is not finite"
         return None
 
@@ -189,21 +200,22 @@ class Simulation:
         This is the hot loop: per step only the controller, ``mj_step`` and one copy of
         the sensor data run.
         """
-        model, data, apply = self.model, self.data, self.controller.apply
+        model, data, step = self.model, self.data, mujoco.mj_step
+        controller = self.controller
+        control = bound_control(controller, data)  # everything it needs looked up once
         shove = self._shove
         max_pitch = self.max_abs_pitch_rad
         v = w = 0.0
-        controller = self.controller
         sensors, sensordata = self.sensors, data.sensordata
         rows, n, capacity = sensors.rows, sensors.count, len(sensors.rows)
         for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
-            apply(data, v, w)
+            control(v, w)
             pitch = controller.last_pitch_rad
             if pitch > max_pitch or -pitch > max_pitch:
                 max_pitch = abs(pitch)
             if shove is not None:
                 self._apply_shove(shove)
-            mujoco.mj_step(model, data)
+            step(model, data)
             if n == capacity:
                 sensors.count = n
                 sensors.flush_full()
@@ -286,6 +298,8 @@ class Simulation:
         else:
             reading = lidar.scan(self.data, self.noise_rng)
         labels = self.level_view.relabel(self.data, reading)
+        for array in (labels, reading.hit_points_world, reading.geom_ids):
+            array.flags.writeable = False  # made for this frame alone: Frame keeps, not copies
         scan = Scan(
             ranges=reading.ranges,
             angle_min=self.lidar.angle_min,
@@ -311,29 +325,39 @@ class Simulation:
         """The robot's true state now."""
         data, handles = self.data, self.handles
         state = handles.read_balance_state(data)
-        gyro, accel, quat = handles.read_imu(data)
-        a = handles.qpos_adr
-        base = data.qpos[a : a + 7]
+        a, site = handles.qpos_adr, handles.lidar_site_id
+        ctrl, sensordata, imu = data.ctrl, data.sensordata, handles.imu_slices
+        left, right = handles.actuator_ids
+        # every array of the truth in one read-only block (one copy, not nine): RobotTruth
+        # keeps views of it as they are
+        block = np.concatenate((
+            data.qpos[a : a + 7],  # 0:3 position, 3:7 quaternion
+            (state.left_wheel_speed_rad_s, state.right_wheel_speed_rad_s, ctrl[left], ctrl[right]),
+            data.site_xpos[site],  # 11:14
+            data.site_xmat[site],  # 14:23
+            sensordata[imu["imu_gyro"]],  # 23:26
+            sensordata[imu["imu_accel"]],  # 26:29
+            sensordata[imu["imu_quat"]],  # 29:33
+        ))  # fmt: skip
+        block.flags.writeable = False
         return RobotTruth(
             stamp_s=self.time_s,
-            position_base_in_world=base[:3],
-            quat_base_in_world=base[3:],
+            position_base_in_world=block[0:3],
+            quat_base_in_world=block[3:7],
             yaw_rad=state.yaw_rad,
             pitch_rad=state.pitch_rad,
             roll_rad=state.roll_rad,
             pitch_rate_rad_s=state.pitch_rate_rad_s,
             forward_velocity_mps=state.forward_velocity_mps,
             yaw_rate_rad_s=state.yaw_rate_rad_s,
-            wheel_speeds_rad_s=np.array(
-                [state.left_wheel_speed_rad_s, state.right_wheel_speed_rad_s]
-            ),
-            wheel_torques_nm=data.ctrl[list(handles.actuator_ids)],
+            wheel_speeds_rad_s=block[7:9],
+            wheel_torques_nm=block[9:11],
             command_velocity_mps=self.command[0],
             command_yaw_rate_rad_s=self.command[1],
             shove_active=self.shove_active,
-            position_sensor_in_world=data.site_xpos[handles.lidar_site_id],
-            rotation_sensor_to_world=data.site_xmat[handles.lidar_site_id].reshape(3, 3),
-            imu_gyro_rad_s=np.array(gyro),
-            imu_accel_mps2=np.array(accel),
-            imu_quat=np.array(quat),
+            position_sensor_in_world=block[11:14],
+            rotation_sensor_to_world=block[14:23].reshape(3, 3),
+            imu_gyro_rad_s=block[23:26],
+            imu_accel_mps2=block[26:29],
+            imu_quat=block[29:33],
         )

@@ -72,6 +72,7 @@ class FilterTally:
 
 # where a reader of the summary learns why the filters differ
 WHY_FILTERS_DIFFER = "docs/filters.md#why-the-two-filters-differ"
+_LABEL_NAMES = tuple(BeamLabel(code).name for code in range(len(BeamLabel)))  # by code
 
 
 @dataclass
@@ -110,12 +111,10 @@ class RunSummary:
         self.max_abs_pitch_deg = max(
             self.max_abs_pitch_deg, abs(math.degrees(frame.truth.pitch_rad))
         )
-        counts = np.bincount(frame.labels, minlength=len(BeamLabel))
-        for label in BeamLabel:
-            self.beams_per_label[label.name] += int(counts[label])
-        n_pv = int(
-            counts[BeamLabel.FLOOR] + counts[BeamLabel.CEILING] + counts[BeamLabel.HORIZONTAL]
-        )
+        counts = np.bincount(frame.labels, minlength=len(BeamLabel)).tolist()
+        for name, count in zip(_LABEL_NAMES, counts, strict=False):
+            self.beams_per_label[name] += count
+        n_pv = counts[BeamLabel.FLOOR] + counts[BeamLabel.CEILING] + counts[BeamLabel.HORIZONTAL]
         self.pitch_variation_frames += n_pv > 0
         self.max_pitch_variation_beams = max(self.max_pitch_variation_beams, n_pv)
         self.mean_pitch_variation_beams += (n_pv - self.mean_pitch_variation_beams) / self.frames

@@ -12,7 +12,9 @@ ahead (the paper's Fig. 1).
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal, Protocol
 
@@ -36,6 +38,16 @@ class BalanceController(Protocol):
     def reset(self) -> None:
         """Forget the controller's state (a new run)."""
         ...
+
+
+ControlFunction = Callable[[float, float], tuple[float, float]]  # (v, w) -> (left, right) N·m
+
+
+def bound_control(controller: BalanceController, data: mujoco.MjData) -> ControlFunction:
+    """``controller.apply`` bound to ``data``: the function the controller's ``bind(data)``
+    returns (everything it needs looked up once), or ``apply`` with ``data`` given."""
+    bind = getattr(controller, "bind", None)
+    return bind(data) if bind is not None else functools.partial(controller.apply, data)
 
 
 def _check(name: str, value: float, low: float, high: float) -> None:

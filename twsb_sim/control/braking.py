@@ -19,7 +19,12 @@ from __future__ import annotations
 
 import mujoco
 
-from twsb_sim.control.balance import BalanceConfig, BalanceController
+from twsb_sim.control.balance import (
+    BalanceConfig,
+    BalanceController,
+    ControlFunction,
+    bound_control,
+)
 from twsb_sim.robot import RobotHandles
 
 # N·m·s/rad: a shorted motor's torque per rad/s of wheel spin relative to the body; small
@@ -46,6 +51,7 @@ class StopBrake:
         self._torque = min(config.brake_torque_nm, handles.torque_limit_nm)
         self._steps = max(1, round(config.brake_s / model.opt.timestep))
         self._drop = config.brake_trigger_mps2 * model.opt.timestep  # m/s per step
+        self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
         self.reset()
 
     def reset(self) -> None:
@@ -62,25 +68,46 @@ class StopBrake:
         yaw_rate_command_rad_s: float = 0.0,
     ) -> tuple[float, float]:
         """Brake, or let the balance controller act."""
-        previous, self._previous_command = self._previous_command, velocity_command_mps
-        # the command falls against the motion (a stop, or a reversal) faster than the trigger
-        falling = (previous - velocity_command_mps) * (1.0 if previous > 0 else -1.0) > self._drop
-        if previous != 0.0 and falling and self._braking_steps == 0:
-            self._braking_steps = self._steps
-            self.brakes += 1
-        if self._braking_steps > 0:
-            state = self._read(data)
-            self.last_pitch_rad = state.pitch_rad
-            self._braking_steps -= 1
-            # the driver shorts the motors: a torque against the wheels' turning relative to
-            # the body, saturating at the brake torque (a hold once they have stopped)
-            spin = 0.5 * (state.left_wheel_speed_rad_s + state.right_wheel_speed_rad_s)
-            torque = max(-self._torque, min(self._torque, -BRAKE_DAMPING_NM_S * spin))
-            data.ctrl[self._left_id] = torque
-            data.ctrl[self._right_id] = torque
-            if self._braking_steps == 0:
-                self.inner.reset()  # the brake's work is not a tracking error to integrate
-            return torque, torque
-        left, right = self.inner.apply(data, velocity_command_mps, yaw_rate_command_rad_s)
-        self.last_pitch_rad = self.inner.last_pitch_rad
-        return left, right
+        return self.bind(data)(velocity_command_mps, yaw_rate_command_rad_s)
+
+    def bind(self, data: mujoco.MjData) -> ControlFunction:
+        """:meth:`apply` bound to ``data``, with the wrapped controller's own bound
+        function (the physics loop calls it every step)."""
+        if data is not self._bound_data:
+            self._bound_data, self._control = data, self._control_function(data)
+        return self._control
+
+    def _control_function(self, data: mujoco.MjData) -> ControlFunction:
+        inner, inner_control = self.inner, bound_control(self.inner, data)
+        read, ctrl, left_id, right_id = self._read, data.ctrl, self._left_id, self._right_id
+        drop, brake_steps, brake_torque = self._drop, self._steps, self._torque
+
+        def control(
+            velocity_command_mps: float, yaw_rate_command_rad_s: float
+        ) -> tuple[float, float]:
+            previous, self._previous_command = self._previous_command, velocity_command_mps
+            # the command falls against the motion (a stop, or a reversal) faster than the
+            # trigger
+            falling = (previous - velocity_command_mps) * (1.0 if previous > 0 else -1.0) > drop
+            if previous != 0.0 and falling and self._braking_steps == 0:
+                self._braking_steps = brake_steps
+                self.brakes += 1
+            if self._braking_steps > 0:
+                state = read(data)
+                self.last_pitch_rad = state.pitch_rad
+                self._braking_steps -= 1
+                # the driver shorts the motors: a torque against the wheels' turning
+                # relative to the body, saturating at the brake torque (a hold once they
+                # have stopped)
+                spin = 0.5 * (state.left_wheel_speed_rad_s + state.right_wheel_speed_rad_s)
+                torque = max(-brake_torque, min(brake_torque, -BRAKE_DAMPING_NM_S * spin))
+                ctrl[left_id] = torque
+                ctrl[right_id] = torque
+                if self._braking_steps == 0:
+                    inner.reset()  # the brake's work is not a tracking error to integrate
+                return torque, torque
+            left, right = inner_control(velocity_command_mps, yaw_rate_command_rad_s)
+            self.last_pitch_rad = inner.last_pitch_rad
+            return left, right
+
+        return control

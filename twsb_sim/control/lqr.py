@@ -3,10 +3,13 @@
 The gains come from :func:`twsb_sim.control.gains.compute_gains`, designed on the
 linearization of the MJCF model itself (see :mod:`twsb_sim.control.linearization`).
 :meth:`LqrController.apply` runs every physics step, so it reads the state through
-pre-resolved addresses and does scalar arithmetic only (about 3 µs a call).
+pre-resolved addresses and does scalar arithmetic only; the physics loop calls the
+function :meth:`LqrController.bind` returns, with everything looked up once.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import mujoco
 
@@ -55,7 +58,6 @@ class LqrController:
                 f"{model.opt.timestep} s"
             )
         self.handles = handles
-        self._read = handles.read_balance_state
         self._k = self.gains.sagittal
         self._k_yaw = self.gains.yaw
         self._ff_velocity = self.gains.velocity_feedforward
@@ -63,6 +65,7 @@ class LqrController:
         self._dt = self.gains.dt
         self._limit = handles.torque_limit_nm
         self._left_id, self._right_id = handles.actuator_ids
+        self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
         self.reset()
 
     def reset(self) -> None:
@@ -87,31 +90,53 @@ class LqrController:
         Returns:
             ``(left, right)`` wheel torques in N·m, saturated at the motor limit.
         """
-        s = self._read(data)
-        self.last_pitch_rad = s.pitch_rad  # the loop tracks the peak pitch without re-reading
-        k0, k1, k2, k3 = self._k
-        ky0, ky1 = self._k_yaw
-        velocity_error = s.forward_velocity_mps - velocity_command_mps
-        yaw_rate_error = s.yaw_rate_rad_s - yaw_rate_command_rad_s
-        common = self._ff_velocity * velocity_command_mps - (
-            k0 * s.pitch_rad
-            + k1 * s.pitch_rate_rad_s
-            + k2 * velocity_error
-            + k3 * self.velocity_error_integral_m
-        )
-        differential = self._ff_yaw_rate * yaw_rate_command_rad_s - (
-            ky0 * yaw_rate_error + ky1 * self.yaw_rate_error_integral_rad
-        )
-        left = common - differential
-        right = common + differential
-        limit = self._limit
-        if -limit < left < limit and -limit < right < limit:
-            self.velocity_error_integral_m += self._dt * velocity_error
-            self.yaw_rate_error_integral_rad += self._dt * yaw_rate_error
-        else:
-            left = limit if left > limit else (-limit if left < -limit else left)
-            right = limit if right > limit else (-limit if right < -limit else right)
-        ctrl = data.ctrl
-        ctrl[self._left_id] = left
-        ctrl[self._right_id] = right
-        return left, right
+        return self.bind(data)(velocity_command_mps, yaw_rate_command_rad_s)
+
+    def bind(self, data: mujoco.MjData) -> Callable[[float, float], tuple[float, float]]:
+        """:meth:`apply` bound to ``data``: ``control(velocity, yaw_rate)``.
+
+        The gains, limits, ``data``'s arrays and the state reader are bound once, as
+        local names of the function: the physics loop calls it every 2 ms step, and it
+        runs in about 60 % of the time of an ``apply`` that looks them all up per call.
+        """
+        if data is not self._bound_data:
+            self._bound_data, self._control = data, self._control_function(data)
+        return self._control
+
+    def _control_function(
+        self, data: mujoco.MjData
+    ) -> Callable[[float, float], tuple[float, float]]:
+        read, ctrl = self.handles.state_reader(data), data.ctrl
+        (k0, k1, k2, k3), (ky0, ky1) = self._k, self._k_yaw
+        ff_velocity, ff_yaw_rate = self._ff_velocity, self._ff_yaw_rate
+        dt, limit, left_id, right_id = self._dt, self._limit, self._left_id, self._right_id
+
+        def control(
+            velocity_command_mps: float, yaw_rate_command_rad_s: float
+        ) -> tuple[float, float]:
+            pitch, pitch_rate, forward_velocity, _, yaw_rate, _, _, _ = read()
+            self.last_pitch_rad = pitch  # the loop tracks the peak pitch without re-reading
+            velocity_error = forward_velocity - velocity_command_mps
+            yaw_rate_error = yaw_rate - yaw_rate_command_rad_s
+            common = ff_velocity * velocity_command_mps - (
+                k0 * pitch
+                + k1 * pitch_rate
+                + k2 * velocity_error
+                + k3 * self.velocity_error_integral_m
+            )
+            differential = ff_yaw_rate * yaw_rate_command_rad_s - (
+                ky0 * yaw_rate_error + ky1 * self.yaw_rate_error_integral_rad
+            )
+            left = common - differential
+            right = common + differential
+            if -limit < left < limit and -limit < right < limit:
+                self.velocity_error_integral_m += dt * velocity_error
+                self.yaw_rate_error_integral_rad += dt * yaw_rate_error
+            else:
+                left = limit if left > limit else (-limit if left < -limit else left)
+                right = limit if right > limit else (-limit if right < -limit else right)
+            ctrl[left_id] = left
+            ctrl[right_id] = right
+            return left, right
+
+        return control

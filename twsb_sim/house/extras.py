@@ -3,8 +3,8 @@ sloped ceilings, stairs and wall shelves, added to a plain house.
 
 ``with_extras(house, extras)`` takes a plain house (no features yet) and returns it with a
 new ceiling height (walls and door headers follow; doorways stay below the ceiling), the
-extras' parts in ``House.features``, and spawn poses recomputed when an extra blocks the
-robot (stair treads, wall shelves). Named and random houses come with extras of their
+extras' parts in ``House.features``; its spawn poses keep clear of the extras that block
+the robot (stair treads, wall shelves). Named and random houses come with extras of their
 own; a scenario can add more (:func:`merge_extras`).
 """
 
@@ -18,7 +18,6 @@ from twsb_sim.house.floor_features import FloorFeature, features_to_parts
 from twsb_sim.house.floorplan import assemble_house
 from twsb_sim.house.furniture import FURNITURE_GROUP, WOOD
 from twsb_sim.house.model import House, Part, Room
-from twsb_sim.house.spawn import find_spawn_poses
 
 MIN_CEILING_M = 1.9  # m
 MAX_CEILING_M = 4.0  # m
@@ -134,9 +133,4 @@ def with_extras(house: House, extras: HouseExtras) -> House:
             house.wall_thickness_m,
         )  # fmt: skip
     features = extra_parts(house, extras, height)
-    spawn = house.spawn_poses
-    if any(p.blocking for p in features):
-        solid = [*house.walls, *(p for piece in house.furniture for p in piece.parts)]
-        solid += [p for p in features if p.blocking]
-        spawn = find_spawn_poses(house.rooms, solid, house.wall_thickness_m)
-    return dataclasses.replace(house, features=features, spawn_poses=spawn)
+    return dataclasses.replace(house, features=features)  # its spawn poses: searched anew

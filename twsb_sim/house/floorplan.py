@@ -14,7 +14,6 @@ from collections import defaultdict
 from collections.abc import Sequence
 
 from twsb_sim.house.model import Doorway, Furniture, House, Part, Rgba, Room
-from twsb_sim.house.spawn import find_spawn_poses
 
 WALL_THICKNESS_M = 0.1  # m
 JAMB_WIDTH_M = 0.05  # door jamb along the wall (m)
@@ -113,7 +112,7 @@ def assemble_house(
     furniture: Sequence[Furniture],
     wall_thickness_m: float = WALL_THICKNESS_M,
 ) -> House:
-    """Complete a floor plan into a ``House``: walls, floor, ceiling, spawn poses."""
+    """Complete a floor plan into a ``House``: walls, floor, ceiling (spawn poses on demand)."""
     x0 = min(r.x_min_m for r in rooms)
     y0 = min(r.y_min_m for r in rooms)
     x1 = max(r.x_max_m for r in rooms)
@@ -129,8 +128,6 @@ def assemble_house(
         (cx, cy, ceiling_height_m + CEILING_THICKNESS_M / 2), 0.0, CEILING_COLOUR, CEILING_GROUP,
     )  # fmt: skip
     walls = build_walls(rooms, doorways, ceiling_height_m, wall_thickness_m)
-    solid = [*walls, *(p for piece in furniture for p in piece.parts)]
-    spawn = find_spawn_poses(rooms, solid, wall_thickness_m)
     return House(
         name=name,
         seed=seed,
@@ -143,7 +140,6 @@ def assemble_house(
         ceiling=ceiling,
         walls=walls,
         furniture=tuple(furniture),
-        spawn_poses=spawn,
     )
 
 

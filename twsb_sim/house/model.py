@@ -6,6 +6,7 @@ radians. A house is a frozen value: two houses built from the same seed compare 
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -172,7 +173,6 @@ class House:
         ceiling: the ceiling geom (a thin box whose underside is at ``ceiling_height_m``).
         walls: wall segments and door frames.
         furniture: the furniture.
-        spawn_poses: start poses, the longest clear lane ahead first.
         features: what makes the floor and the ceiling uneven (door thresholds, rugs,
             ramps, cables, sloped ceilings, stairs, wall shelves): parts named
             ``floor_<kind>_<k>...`` and ``ceiling_<kind>_<k>...`` are floor and ceiling
@@ -191,8 +191,20 @@ class House:
     ceiling: Part
     walls: tuple[Part, ...]
     furniture: tuple[Furniture, ...]
-    spawn_poses: tuple[SpawnPose, ...]
     features: tuple[Part, ...] = ()
+
+    @functools.cached_property
+    def spawn_poses(self) -> tuple[SpawnPose, ...]:
+        """Start poses, the longest clear lane ahead first (see :mod:`.spawn`).
+
+        Searched on first use, not when the house is built: the search is the costliest
+        part of building a house, and most houses a run builds (the same plan with a
+        scenario's extras, a start given by position) never need it.
+        """
+        from twsb_sim.house.spawn import find_spawn_poses  # spawn imports this module
+
+        solid = [*self.walls, *(p for piece in self.furniture for p in piece.parts)]
+        return find_spawn_poses(self.rooms, [*solid, *self.features], self.wall_thickness_m)
 
     def parts(self) -> Iterator[Part]:
         """Every geom of the house, floor and ceiling first, the features last."""

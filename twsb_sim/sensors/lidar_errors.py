@@ -90,4 +90,4 @@ def mix_edges(
 
 def quantised(ranges_m: np.ndarray, step_m: float) -> np.ndarray:
     """Readings rounded to multiples of ``step_m`` (unchanged when 0)."""
-    return np.round(ranges_m / step_m) * step_m if step_m > 0 else ranges_m
+    return np.rint(ranges_m / step_m) * step_m if step_m > 0 else ranges_m  # = np.round, faster

@@ -83,6 +83,7 @@ class SensorSuite:
         base = data.body(h.base_body_id)
         offset = base.xmat.reshape(3, 3).T @ (data.site_xpos[h.lidar_site_id] - base.xpos)
         self.lidar_offset_xy = offset[:2].copy()  # m, the LiDAR in base_footprint
+        self._lidar_offset = tuple(self.lidar_offset_xy.tolist())
         self._next_imu = self._next_odom = 0  # sample numbers since the reset
         self._imu = [np.zeros((0, 10))]  # pending: arrival s, gyro, accel, roll pitch yaw
         self._odom = [np.zeros((0, 6))]  # pending: stamp s, x, y, yaw, v, w
@@ -112,7 +113,7 @@ class SensorSuite:
             block[:, 1:7] = readings
             block[:, 7:] = self.filter.update(readings)
             self._imu.append(block)
-            self._recent_imu = np.vstack((self._recent_imu, block))
+            self._recent_imu = np.concatenate((self._recent_imu, block))
         odom_times = self._sample_times(self._next_odom, odom_period, last)
         if len(odom_times):
             self._next_odom += len(odom_times)
@@ -121,7 +122,7 @@ class SensorSuite:
             block = np.empty((len(odom_times), 6))  # stamp s, x, y, yaw, v, w
             block[:, 0], block[:, 1:4], block[:, 4:] = odom_times, poses, twists
             self._odom.append(block)
-            self._poses = np.vstack((self._poses, block))
+            self._poses = np.concatenate((self._poses, block))
         drop = self.count - self.keep_rows
         if drop > 0:  # keep one revolution of poses (and the last row, for interpolation)
             self.rows[: self.keep_rows] = self.rows[drop : self.count]
@@ -131,7 +132,7 @@ class SensorSuite:
     def _sample_times(self, next_index: int, period: float, last: float) -> np.ndarray:
         """The times of the samples ``next_index, ...`` taken no later than ``last``."""
         stop = math.floor((last - self.t0) / period + _EPS) + 1
-        return np.array([self.t0 + k * period for k in range(next_index, stop)])
+        return self.t0 + np.arange(next_index, max(stop, next_index)) * period
 
     def _interpolate(self, times: np.ndarray, columns: slice, on_steps: bool) -> np.ndarray:
         """The recorded columns at ``times`` (within the recorded span), linearly;
@@ -171,18 +172,22 @@ class SensorSuite:
     def readings(self, stamp_s: float, now_s: float) -> SensorReadings:
         """The streams that reached the robot by ``now_s`` since the last call, and the
         look-ups at ``stamp_s`` (call :meth:`sync` first)."""
-        imu = np.vstack(self._imu) if len(self._imu) > 1 else self._imu[0]
+        imu = np.concatenate(self._imu) if len(self._imu) > 1 else self._imu[0]
         n_arrived = int(np.searchsorted(imu[:, 0], now_s + _EPS, side="right"))
         self._imu = [imu[n_arrived:]]
         imu = imu[:n_arrived].copy()  # handed out read-only: the views below share it
         imu.flags.writeable = False
-        odom = np.vstack(self._odom) if len(self._odom) > 1 else self._odom[0].copy()
+        odom = np.concatenate(self._odom) if len(self._odom) > 1 else self._odom[0].copy()
         odom.flags.writeable = False
         self._odom = [np.zeros((0, 6))]
         base = self.pose_at(stamp_s)
-        c, s = math.cos(base[2]), math.sin(base[2])
-        dx, dy = self.lidar_offset_xy
-        lidar = np.array([base[0] + c * dx - s * dy, base[1] + s * dx + c * dy, base[2]])
+        x, y, yaw = base.tolist()  # floats: numpy scalars cost ~10x per operation
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = self._lidar_offset
+        lidar = np.array([x + c * dx - s * dy, y + s * dx + c * dy, yaw])
+        attitude, twist = self.attitude_at(stamp_s), self.twist_at(stamp_s)
+        for array in (base, lidar, attitude, twist):
+            array.flags.writeable = False  # made for these readings: kept, not copied again
         readings = SensorReadings(
             imu=ImuSamples(
                 stamps_s=imu[:, 0],
@@ -193,10 +198,10 @@ class SensorSuite:
             odometry=OdometrySamples(
                 stamps_s=odom[:, 0], pose_odom=odom[:, 1:4], twist=odom[:, 4:6]
             ),
-            attitude_rpy_rad=self.attitude_at(stamp_s),
+            attitude_rpy_rad=attitude,
             pose_base_in_odom=base,
             pose_lidar_in_odom=lidar,
-            twist=self.twist_at(stamp_s),
+            twist=twist,
         )
         old = min(stamp_s, now_s) - LOOKUP_HISTORY_S  # both are in time order
         self._recent_imu = self._recent_imu[np.searchsorted(self._recent_imu[:, 0], old) :]
