@@ -134,30 +134,19 @@ class EgoMotion:
         reference_ranges = self.reference_ranges
         first = min(max(round(expected.theta_rad / layout.increment), -max_shift), max_shift)
         shift = coarse_turn(ranges, reference_ranges, max_shift, layout, first)
-        found = estimate_motion(
-            level,
-            directions,
-            self.reference,
-            layout,
-            shift,
-            self.params.association_m,
-            expected,
-            spread,
-        )
+
+        def fit(around: Motion, around_spread: tuple[float, float]) -> Motion:
+            association = self.params.association_m
+            return estimate_motion(
+                level, directions, self.reference, layout, shift, association, around, around_spread
+            )
+
+        found = fit(expected, spread)
         if found.pairs < MIN_PAIRS and not odometry and expected.translation_m > 0.0:
             # no pairs where the constant-velocity prior put them (a wrong velocity, or a
             # hard stop while coasting): try the robot standing since the reference
             standing = Motion(expected.theta_rad, 0.0, 0.0)
-            found = estimate_motion(
-                level,
-                directions,
-                self.reference,
-                layout,
-                shift,
-                self.params.association_m,
-                standing,
-                (spread[0], self.params.association_m),
-            )
+            found = fit(standing, (spread[0], self.params.association_m))
         step = self.since_reference.inverse().then(found)
         trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
         trusted &= abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
