@@ -11,22 +11,11 @@ complete output, or the new one, never a half-written file.
 from __future__ import annotations
 
 import os
-import shutil
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-
-def partial_path(path: Path) -> Path:
-    """The hidden name ``path`` is written under until it is complete."""
-    return path.with_name(f".{path.name}.partial")
-
-
-def _remove(path: Path) -> None:
-    if path.is_dir() and not path.is_symlink():
-        shutil.rmtree(path, ignore_errors=True)
-    else:
-        path.unlink(missing_ok=True)
+from pvfilter.bag.staging import partial_path, remove_path
 
 
 @contextmanager
@@ -40,7 +29,7 @@ def staged_folder(out: Path) -> Iterator[Path]:
         The staging folder (empty).
     """
     staging = partial_path(out)
-    _remove(staging)  # what a killed run left
+    remove_path(staging)  # what a killed run left
     staging.mkdir(parents=True)
     try:
         yield staging
@@ -52,7 +41,7 @@ def staged_folder(out: Path) -> Iterator[Path]:
             else:
                 os.replace(path, target)
     finally:
-        _remove(staging)
+        remove_path(staging)
 
 
 @contextmanager
@@ -65,13 +54,13 @@ def staged_new_folder(out: Path) -> Iterator[Path]:
         A path that does not exist yet, inside a hidden staging folder.
     """
     staging = partial_path(out)
-    _remove(staging)
+    remove_path(staging)
     staging.mkdir(parents=True)
     try:
         yield staging / out.name
         os.replace(staging / out.name, out)
     finally:
-        _remove(staging)
+        remove_path(staging)
 
 
 @contextmanager
@@ -84,10 +73,10 @@ def staged_file(path: Path) -> Iterator[Path]:
         The temporary path (absent).
     """
     temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
-    _remove(temporary)
+    remove_path(temporary)
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
         yield temporary
         os.replace(temporary, path)
     finally:
-        _remove(temporary)
+        remove_path(temporary)

@@ -10,7 +10,13 @@ from contextlib import contextmanager
 from pathlib import Path
 
 
-def _remove(path: Path) -> None:
+def partial_path(path: Path) -> Path:
+    """The hidden name ``path`` is written under until it is complete."""
+    return path.with_name(f".{path.name}.partial")
+
+
+def remove_path(path: Path) -> None:
+    """Remove a file or a folder tree, if there is one (what a killed run left)."""
     if path.is_dir() and not path.is_symlink():
         shutil.rmtree(path, ignore_errors=True)
     else:
@@ -30,18 +36,18 @@ def staged_output(out: Path, replace: bool) -> Iterator[Path]:
     """
     if out.exists() and not replace:
         raise ValueError(f"{out}: exists; give --force to replace it")
-    staging = out.with_name(f".{out.name}.partial")
-    _remove(staging)  # what a killed run left
+    staging = partial_path(out)
+    remove_path(staging)  # what a killed run left
     staging.mkdir(parents=True)
     try:
         yield staging / out.name
         if out.exists():
             old = out.with_name(f".{out.name}.old")
-            _remove(old)
+            remove_path(old)
             os.replace(out, old)
             os.replace(staging / out.name, out)
-            _remove(old)
+            remove_path(old)
         else:
             os.replace(staging / out.name, out)
     finally:
-        _remove(staging)
+        remove_path(staging)
