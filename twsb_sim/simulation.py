@@ -42,10 +42,6 @@ _DIVERGENCE_INDICES = sorted(  # in MuJoCo's order, as mujoco_warnings() lists t
 )
 
 
-class RobotFell(RuntimeError):
-    """The robot's |pitch| went beyond the fall limit: the run cannot go on."""
-
-
 @dataclass(frozen=True)
 class Shove:
     """A force acting now: world-frame force at a point fixed in the body frame."""
