@@ -15,15 +15,14 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
-import threading
 from collections.abc import Sequence
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_folder
 from twsb_sim.scenario_files import resolve_scenario
+from twsb_sim.stopping import Terminated, stopping
 
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
 EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
@@ -118,22 +117,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, turned into the same clean stop as a Ctrl-C."""
-
-
-def _terminate(signum: int, frame: object) -> None:
-    raise Terminated
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``twsb`` command: runs one command, returns its exit status."""
-    in_main_thread = threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGTERM, _terminate) if in_main_thread else None
     try:
-        args = build_parser().parse_args(argv)
-        status = args.handler(args)
-        sys.stdout.flush()  # a closed pipe shows here, not in Python's exit-time flush
+        with stopping():  # SIGTERM stops as Ctrl-C does; a stop is never lost
+            args = build_parser().parse_args(argv)
+            status = args.handler(args)
+            sys.stdout.flush()  # a closed pipe shows here, not in Python's exit-time flush
         return status
     except ConfigError as error:
         print(f"twsb: error: {error}", file=sys.stderr)
@@ -152,9 +142,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         # of stdout from failing again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

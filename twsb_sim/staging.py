@@ -16,6 +16,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from pvfilter.bag.staging import partial_path, remove_path
+from twsb_sim.stopping import raise_if_stopped
 
 
 @contextmanager
@@ -33,6 +34,7 @@ def staged_folder(out: Path) -> Iterator[Path]:
     staging.mkdir(parents=True)
     try:
         yield staging
+        raise_if_stopped()  # a stop that landed where Python ignored it
         out.mkdir(parents=True, exist_ok=True)
         for path in sorted(staging.rglob("*")):
             target = out / path.relative_to(staging)
@@ -58,6 +60,7 @@ def staged_new_folder(out: Path) -> Iterator[Path]:
     staging.mkdir(parents=True)
     try:
         yield staging / out.name
+        raise_if_stopped()
         os.replace(staging / out.name, out)
     finally:
         remove_path(staging)
@@ -77,6 +80,7 @@ def staged_file(path: Path) -> Iterator[Path]:
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
         yield temporary
+        raise_if_stopped()
         os.replace(temporary, path)
     finally:
         remove_path(temporary)

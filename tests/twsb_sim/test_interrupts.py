@@ -55,6 +55,7 @@ class Command:
                 assert self.process.poll() is None, f"ended first: {self.stderr.decode()}"
                 assert time.monotonic() < deadline, "never became ready"
                 time.sleep(0.002)
+            assert self.process.poll() is None, f"ended before the signal: {self.stderr.decode()}"
             if how == "int":
                 os.killpg(self.process.pid, signal.SIGINT)
             else:

@@ -1,0 +1,59 @@
+"""A stop that lands in a finalizer, where Python ignores exceptions, is not lost."""
+
+from __future__ import annotations
+
+import gc
+import sys
+
+import pytest
+
+from twsb_sim.staging import staged_file
+from twsb_sim.stopping import Terminated, raise_if_stopped, stopping
+
+
+class _StoppedWhileCollected:
+    """An object whose finalizer is where the signal lands."""
+
+    def __init__(self, stop: KeyboardInterrupt) -> None:
+        self.stop = stop
+
+    def __del__(self) -> None:
+        raise self.stop
+
+
+def _collect_one(stop: KeyboardInterrupt) -> None:
+    _StoppedWhileCollected(stop)  # dropped at once: its __del__ raises, Python ignores it
+    gc.collect()
+
+
+@pytest.mark.parametrize("stop", [KeyboardInterrupt(), Terminated()])
+def test_a_stop_swallowed_by_a_finalizer_is_raised_when_the_block_ends(stop, capsys):
+    reached_the_end = False
+    with pytest.raises(type(stop)), stopping():
+        _collect_one(stop)
+        reached_the_end = True  # Python carried on, as it does
+    assert reached_the_end
+    assert "Exception ignored" not in capsys.readouterr().err  # recorded, not printed
+
+
+def test_no_output_is_committed_after_a_swallowed_stop(tmp_path):
+    path = tmp_path / "params.toml"
+    with pytest.raises(KeyboardInterrupt), stopping(), staged_file(path) as temporary:
+        temporary.write_text("x = 1\n")
+        _collect_one(KeyboardInterrupt())
+    assert not path.exists() and not list(tmp_path.iterdir())
+
+
+def test_other_ignored_exceptions_still_reach_the_previous_hook(monkeypatch):
+    seen = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda unraisable: seen.append(unraisable))
+    with stopping():
+        _collect_one(ValueError("not a stop"))  # type: ignore[arg-type]
+    assert [type(u.exc_value) for u in seen] == [ValueError]
+
+
+def test_nothing_is_raised_outside_a_block_or_after_it():
+    raise_if_stopped()  # no block: nothing recorded
+    with pytest.raises(KeyboardInterrupt), stopping():
+        _collect_one(KeyboardInterrupt())
+    raise_if_stopped()  # the stop belonged to the block that ended

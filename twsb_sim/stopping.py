@@ -1,0 +1,72 @@
+"""A Ctrl-C or SIGTERM stops a command, wherever in the program the signal lands.
+
+Python raises ``KeyboardInterrupt`` (and the ``twsb`` command raises :class:`Terminated`
+for SIGTERM) in whatever Python code runs when the signal arrives. When that code is a
+finalizer (an object's ``__del__``, a weak-reference callback, a generator closed by the
+garbage collector), Python prints "Exception ignored" and carries on: the command would
+run to the end and exit 0 as if it had never been stopped. So the stop is also recorded
+here, where it cannot be lost: :func:`stopping` records every stop, silences the ignored
+one, and :func:`raise_if_stopped` raises it again at the points that commit outputs
+(:mod:`twsb_sim.staging`) and when the command returns.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from types import FrameType
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into the same clean stop as a Ctrl-C."""
+
+
+_stop: KeyboardInterrupt | None = None  # the stop received during :func:`stopping`
+
+
+def _on_sigterm(signum: int, frame: FrameType | None) -> None:
+    global _stop
+    _stop = Terminated()
+    raise _stop
+
+
+def _on_unraisable(unraisable: sys.UnraisableHookArgs, previous=sys.__unraisablehook__) -> None:
+    """Record a stop that landed in a finalizer (where Python ignores it) instead of
+    printing it; anything else goes to the hook that was there before."""
+    global _stop
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        _stop = _stop or unraisable.exc_value
+    else:
+        previous(unraisable)
+
+
+def raise_if_stopped() -> None:
+    """Raise the Ctrl-C or SIGTERM received (and perhaps swallowed) so far, if any."""
+    if _stop is not None:
+        raise _stop
+
+
+@contextmanager
+def stopping() -> Iterator[None]:
+    """Within the block, SIGTERM raises :class:`Terminated` and no stop is lost.
+
+    Outside the main thread (where Python cannot install signal handlers: a command run
+    from a test's thread) only the record of swallowed stops is kept.
+    """
+    global _stop
+    _stop = None
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous_handler = signal.signal(signal.SIGTERM, _on_sigterm) if in_main_thread else None
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: _on_unraisable(unraisable, previous_hook)
+    try:
+        yield
+        raise_if_stopped()
+    finally:
+        sys.unraisablehook = previous_hook
+        if previous_handler is not None:
+            signal.signal(signal.SIGTERM, previous_handler)
+        _stop = None
