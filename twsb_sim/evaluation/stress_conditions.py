@@ -31,6 +31,7 @@ CORE_CONDITIONS: tuple[str, ...] = (
     "people",
     "doors",
     "high_lidar",
+    "level_mount",
 )
 _REGISTERED: dict[str, Path] = {name: STRESS_DIR / f"{name}.toml" for name in CORE_CONDITIONS}
 

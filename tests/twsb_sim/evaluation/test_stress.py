@@ -4,6 +4,7 @@ families."""
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -74,6 +75,10 @@ def test_conditions_have_what_they_are_named_for():
     assert {f["kind"] for f in ramps["floor_features"]} == {"ramp"}
     high = draw_episode(0, 0, condition_ranges("high_lidar")).scenario_table
     assert high["robot"]["lidar_height_m"] >= 0.55
+    tilted = draw_episode(0, 0, condition_ranges("baseline")).scenario_table["robot"]
+    level = draw_episode(0, 0, condition_ranges("level_mount")).scenario_table["robot"]
+    assert math.hypot(tilted["lidar_tilt_pitch_deg"], tilted["lidar_tilt_roll_deg"]) > 0.0
+    assert level["lidar_tilt_pitch_deg"] == level["lidar_tilt_roll_deg"] == 0.0
 
 
 def test_unknown_condition_and_registration_errors(tmp_path, capsys):
