@@ -158,14 +158,15 @@ class ImprovedPitchVariationFilter:
         prior: a match that cannot be trusted removes nothing; in a pitch event (the last
         scan was tilted) the prior carries on until a scan matches again, otherwise the
         filter re-baselines."""
-        match, coast = Match(Motion(), True), False
-        if not fresh:
-            imu_tilt = None if attitude is None else attitude.tilt_rad
-            match = self._ego.match(
-                self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
-            )
-            coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
-            fresh = not match.trusted and not coast
+        if fresh:
+            self._rebaseline()
+            return Match(Motion(), True), True, False
+        imu_tilt = None if attitude is None else attitude.tilt_rad
+        match = self._ego.match(
+            self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
+        )
+        coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
+        fresh = not match.trusted and not coast
         if fresh:
             self._rebaseline()
         elif coast:
