@@ -178,10 +178,26 @@ class EgoMotion:
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
         beams (new, candidate lines) never take part in a match."""
-        self.reference = np.where(moving[:, None], np.nan, unstretch(points, tilt_rad))
-        self.reference_ranges = np.hypot(self.reference[:, 0], self.reference[:, 1])
+        reference = unstretch(points, tilt_rad)
+        reference = reference.copy() if reference is points else reference
+        reference[moving] = np.nan
+        if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
+            # the match measured these points' ranges already (unstretched alike)
+            ranges = match.ranges.copy()
+            ranges[moving] = np.nan
+        else:
+            ranges = np.hypot(reference[:, 0], reference[:, 1])
+        self.reference, self.reference_ranges = reference, ranges
         self.since_reference = Motion()
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
         self.tilt = tilt_rad
         self.pose = pose
+
+
+def _same_stretch(tilt_rad: float, other_rad: float) -> bool:
+    """:func:`unstretch` by either tilt gives the same points: both leave them as they are
+    (0 or NaN), or the tilts are equal."""
+    unchanged = tilt_rad == 0.0 or math.isnan(tilt_rad)
+    other_unchanged = other_rad == 0.0 or math.isnan(other_rad)
+    return unchanged == other_unchanged and (unchanged or tilt_rad == other_rad)

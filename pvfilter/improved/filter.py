@@ -104,7 +104,8 @@ class ImprovedPitchVariationFilter:
         beams = indices(valid)
         # segment, in the scan's own frame (a floor line moves with the sensor)
         segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, self.params)
-        directions = np.full(len(scan), np.nan)  # each return's local line direction, rad
+        directions = np.empty(len(scan))  # each return's local line direction, rad
+        directions.fill(np.nan)
         directions[beams] = segments.directions
         # ego-motion: the scan in its mid-scan frame, matched against the previous one
         prior = self._ego.prior(dt, pose)
@@ -157,14 +158,15 @@ class ImprovedPitchVariationFilter:
         prior: a match that cannot be trusted removes nothing; in a pitch event (the last
         scan was tilted) the prior carries on until a scan matches again, otherwise the
         filter re-baselines."""
-        match, coast = Match(Motion(), True), False
-        if not fresh:
-            imu_tilt = None if attitude is None else attitude.tilt_rad
-            match = self._ego.match(
-                self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
-            )
-            coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
-            fresh = not match.trusted and not coast
+        if fresh:
+            self._rebaseline()
+            return Match(Motion(), True), True, False
+        imu_tilt = None if attitude is None else attitude.tilt_rad
+        match = self._ego.match(
+            self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
+        )
+        coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
+        fresh = not match.trusted and not coast
         if fresh:
             self._rebaseline()
         elif coast:
@@ -270,9 +272,10 @@ class ImprovedPitchVariationFilter:
         if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
         self._previous_stamp = scan.stamp
-        fresh = self._new_sequence or self._layout is None or not self._layout.fits(scan)
+        fits = self._layout is not None and self._layout.fits(scan)
+        fresh = self._new_sequence or not fits
         self._new_sequence = False
-        if self._layout is None or not self._layout.fits(scan):
+        if not fits:
             self._layout = BeamLayout.of(scan)
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared

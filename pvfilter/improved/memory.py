@@ -61,7 +61,10 @@ class LevelView:
     @classmethod
     def empty(cls, n: int) -> LevelView:
         """A view that knows nothing, of ``n`` beams."""
-        return cls(np.full(n, np.nan), np.full(n, np.inf), np.zeros(n), np.zeros(n))
+        ranges, ages = np.empty(n), np.empty(n)  # np.full costs a Python-level call each
+        ranges.fill(np.nan)
+        ages.fill(np.inf)
+        return cls(ranges, ages, np.zeros(n), np.zeros(n))
 
 
 class LevelMemory:
@@ -189,8 +192,10 @@ def _fill_single_holes(view: LevelView) -> None:
     hole = indices(np.isnan(level))
     if hole.size == 0 or hole.size == len(level):
         return
-    n = len(level)
-    left, right = (hole - 1) % n, (hole + 1) % n
+    # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
+    left, right = hole - 1, hole + 1
+    if right[-1] == len(level):  # holes are ascending: only the last can be beam n - 1
+        right[-1] = 0
     take_left = ~np.isnan(level[left]) & ~(level[right] < level[left])
     source = np.where(take_left, left, right)
     fill = ~np.isnan(level[source])

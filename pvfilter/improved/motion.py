@@ -126,10 +126,12 @@ def _best_shift(
     return int(shifts[np.add.reduce(cost, axis=1).argmin()])  # ties: the lowest shift
 
 
-def prior_weights(spread: tuple[float, float]) -> np.ndarray:
-    """Pseudo-observation weights of a prior with spreads (turn rad, translation m)."""
-    turn, shift = max(spread[0], 1e-4), max(spread[1], 1e-3)
-    return np.diag((ROW_NOISE_M / np.array([turn, shift, shift])) ** 2)
+def prior_weights(spread: tuple[float, float]) -> tuple[float, float]:
+    """Pseudo-observation weights of a prior with spreads (turn rad, translation m): the
+    diagonal of the weight matrix, (turn, translation; the same for x and y)."""
+    turn = ROW_NOISE_M / max(spread[0], 1e-4)
+    shift = ROW_NOISE_M / max(spread[1], 1e-3)
+    return turn * turn, shift * shift
 
 
 def estimate_motion(
@@ -177,34 +179,48 @@ def estimate_motion(
     design[:, 1], design[:, 2] = normal_x, normal_y
     target = normal_x * d[:, 0] + normal_y * d[:, 1]
     weights = prior_weights(spread)
-    expected_change = np.array([prior.theta_rad - coarse.theta_rad, 0.0, 0.0])
-    solution = _solve(design, target, expected_change, weights)
+    expected_turn = prior.theta_rad - coarse.theta_rad  # the prior's change (turn only)
+    solution = _solve(design, target, expected_turn, weights)
     # drop the worst fits (occlusion edges, moving things) once, and solve again
-    residual = np.abs(design @ solution - target)
-    middle = residual.size // 2
-    median = float(np.partition(residual, middle)[middle])
-    keep = indices(residual <= max(3.0 * median, 0.01))
+    residual = _residuals(design, solution, target)
+    keep = indices(residual <= max(3.0 * _median(residual), 0.01))
     if keep.size < MIN_PAIRS:
         return prior
     design, target = design.take(keep, axis=0), target.take(keep)
-    solution = _solve(design, target, expected_change, weights)
-    residual = np.abs(design @ solution - target)
-    middle = residual.size // 2
-    median = float(np.partition(residual, middle)[middle])
+    solution = _solve(design, target, expected_turn, weights)
+    median = _median(_residuals(design, solution, target))
     fine = coarse.then(Motion(*solution))
-    return dataclasses.replace(fine, pairs=int(keep.size), residual_m=median)
+    return Motion(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
+
+
+def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:
+    """Absolute point-to-line residuals of a solution, m."""
+    residual = design @ solution
+    residual -= target
+    return np.abs(residual, out=residual)
+
+
+def _median(values: np.ndarray) -> float:
+    """The upper median of ``values`` (the middle element when sorted)."""
+    middle = values.size // 2
+    return float(np.partition(values, middle)[middle])
 
 
 def _solve(
-    design: np.ndarray, target: np.ndarray, expected: np.ndarray, weights: np.ndarray
+    design: np.ndarray, target: np.ndarray, expected_turn: float, weights: tuple[float, float]
 ) -> tuple[float, ...]:
     """Least squares with the prior's pseudo-observations (normal equations, 3 x 3).
 
     The prior keeps the matrix positive definite; Cramer's rule on nine floats is cheaper
-    than a LAPACK call at this size.
+    than a LAPACK call at this size. The prior's weights are diagonal and only its turn
+    is non-zero: they are added as floats (``+ 0.0`` where the weight matrix adds a zero,
+    which turns a -0.0 into 0.0 as the matrix sum did), not as 3 x 3 arrays.
     """
-    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design + weights).tolist()
-    r0, r1, r2 = (design.T @ target + weights @ expected).tolist()
+    w_turn, w_shift = weights
+    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design).tolist()
+    a, b, c, e, f, i = a + w_turn, b + 0.0, c + 0.0, e + w_shift, f + 0.0, i + w_shift
+    r0, r1, r2 = (design.T @ target).tolist()
+    r0, r1, r2 = r0 + (w_turn * expected_turn + 0.0), r1 + 0.0, r2 + 0.0
     det = a * (e * i - f * f) - b * (b * i - f * c) + c * (b * f - e * c)
     x0 = r0 * (e * i - f * f) - b * (r1 * i - f * r2) + c * (r1 * f - e * r2)
     x1 = a * (r1 * i - f * r2) - r0 * (b * i - f * c) + c * (b * r2 - r1 * c)

@@ -158,7 +158,7 @@ def segment_scan(
     gap = np.hypot(step[:, 0], step[:, 1])
     jumps = gap > params.break_distance_m + 0.02 * ranges[1:]
     runs = np.zeros(m, dtype=np.intp)
-    np.cumsum(jumps, out=runs[1:])
+    np.cumsum(jumps, dtype=np.intp, out=runs[1:])  # dtype: no cast per element
     half_widths = chord_half_widths(ranges, increment, params.chord_m)
     directions = local_directions(points, half_widths, runs)
     across = np.abs(np.sin(directions)) > np.cos(np.radians(params.line_angle_deg))

@@ -121,9 +121,10 @@ def move_scan(
     tau = offsets * increment_before  # s
     # the point lands about theta / increment beams away from where it was seen (on a ring,
     # past the seam it is seen a scan period earlier or later)
-    landing = beams + motion.theta_rad / layout.increment
+    turn_beams = motion.theta_rad / layout.increment
+    landing = beams + turn_beams
     if layout.ring:
-        landing %= layout.count
+        _wrap_once(landing, turn_beams, layout.count)
     else:
         np.clip(landing, 0.0, layout.count - 1.0, out=landing)
     tau_after = (landing - 0.5 * (layout.count - 1)) * increment_after
@@ -141,6 +142,22 @@ def move_scan(
     moved[:, 0] = cosine * x - sine * y + (motion.tx_m + velocity_after.tx_m * tau_after)
     moved[:, 1] = sine * x + cosine * y + (motion.ty_m + velocity_after.ty_m * tau_after)
     return moved
+
+
+def _wrap_once(landing: np.ndarray, turn_beams: float, count: int) -> None:
+    """``landing %= count`` in place, for beams ``0 .. count - 1`` turned by ``turn_beams``.
+
+    A turn of less than half a scan moves a beam at most once past the seam, on the side
+    the turn goes: one conditional add or subtract then gives the float remainder's very
+    values (``fmod`` is exact, and a negative value gains ``count`` just as the remainder
+    adds it), at a third of its cost. Larger turns take the remainder itself.
+    """
+    if not abs(turn_beams) < 0.5 * count:
+        np.remainder(landing, count, out=landing)
+    elif turn_beams >= 0.0:
+        np.subtract(landing, count, out=landing, where=landing >= count)
+    else:
+        np.add(landing, count, out=landing, where=landing < 0.0)
 
 
 def unstretch(points: np.ndarray, tilt_rad: float) -> np.ndarray:
