@@ -15,7 +15,7 @@ from __future__ import annotations
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from types import FrameType
 
@@ -33,7 +33,7 @@ def _on_sigterm(signum: int, frame: FrameType | None) -> None:
     raise _stop
 
 
-def _on_unraisable(unraisable: sys.UnraisableHookArgs, previous=sys.__unraisablehook__) -> None:
+def _on_unraisable(unraisable: sys.UnraisableHookArgs, previous: Callable[..., object]) -> None:
     """Record a stop that landed in a finalizer (where Python ignores it) instead of
     printing it; anything else goes to the hook that was there before."""
     global _stop
