@@ -10,6 +10,7 @@ noise and the ego-motion's error, plus a share of the range for angular error. A
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -17,6 +18,8 @@ from scipy.ndimage import minimum_filter1d
 from pvfilter.improved.beams import BeamLayout
 from pvfilter.improved.motion import Motion
 
+STANDING_PITCH_CHANGE = math.radians(0.5)  # rad: the least a standing robot's pitch
+# changes over the world-static baseline while a pitch event lasts (see WorldStatic)
 MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
 # test does not tell (a grazing beam slides along its surface)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far
@@ -102,6 +105,14 @@ class WorldStatic:
     beam grazes the surface (``MIN_FACING``). It is evaluated only for the beams asked
     about (those of candidate lines).
 
+    Where the sensor stood, a floor line still moves when the pitch changes, and a
+    balancing robot that stands holds one pitch only at its balance point, where its
+    plane meets no floor (or meets it where it always does, a mount's tilt: structure to
+    the filter too). So there the test also tells where the line a return lies on would
+    move by more than twice the tolerance for a pitch change of ``STANDING_PITCH_CHANGE``
+    (``floor_shift_m``, from :func:`pvfilter.improved.geometry.floor_shift`): a shallow
+    line that stayed put is a wall that came back into view, not the floor.
+
     Attributes:
         ranges: this scan's ranges per beam (mid-scan frame, unstretched), m; NaN where
             invalid.
@@ -119,8 +130,17 @@ class WorldStatic:
     since: Motion
     tolerance_m: float
 
-    def at(self, beams: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """For ``beams``: the return is where the earlier scan saw it; the test tells."""
+    def at(
+        self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """For ``beams``: the return is where the earlier scan saw it; the test tells.
+
+        Args:
+            beams: the beams asked about.
+            floor_shift_m: per beam asked about, how far the floor line through its
+                return would move for a pitch change of ``STANDING_PITCH_CHANGE``, m
+                (None: the sensor's own motion alone tells).
+        """
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
         angle = self.directions.take(beams)
@@ -132,7 +152,13 @@ class WorldStatic:
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_m + 0.01 * ranges
-        telling = (np.abs(moved) > 2.0 * tolerance) & (np.abs(facing) > MIN_FACING)
+        facing_ok = np.abs(facing) > MIN_FACING
+        telling = (np.abs(moved) > 2.0 * tolerance) & facing_ok
+        if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
+            stood = math.hypot(since.tx_m, since.ty_m) <= 2.0 * tolerance
+            pitch_tells = stood & (floor_shift_m > 2.0 * tolerance) & ~np.isnan(earlier)
+            moved = np.where(facing_ok, moved, 0.0)  # a grazing beam: it barely moved
+            telling |= pitch_tells
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
 

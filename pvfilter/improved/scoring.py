@@ -49,8 +49,14 @@ import numpy as np
 
 from pvfilter.improved.beams import indices
 from pvfilter.improved.claims import spread_claims
-from pvfilter.improved.evidence import WorldStatic
-from pvfilter.improved.geometry import ceiling_min_distance, implied_tilt, lean_ok, seen_beyond
+from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, WorldStatic
+from pvfilter.improved.geometry import (
+    ceiling_min_distance,
+    floor_shift,
+    implied_tilt,
+    lean_ok,
+    seen_beyond,
+)
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
@@ -158,7 +164,7 @@ def score_segments(
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
     if static is not None and score.any():
-        score *= 1.0 - _world_static_share(segments, score > 0.0, static)
+        score *= 1.0 - _world_static_share(segments, score > 0.0, static, tilt, params)
     # nothing lies beyond a floor line: returns there show a wall beside open space
     score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
     down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
@@ -215,14 +221,23 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
     return np.maximum(own, np.sqrt(12.0 * variance))
 
 
-def _world_static_share(segments: Segments, scored: np.ndarray, static: WorldStatic) -> np.ndarray:
+def _world_static_share(
+    segments: Segments,
+    scored: np.ndarray,
+    static: WorldStatic,
+    tilt: np.ndarray,
+    params: ImprovedParams,
+) -> np.ndarray:
     """Per scored segment: the share of its points that stayed put in the world, where at
-    least half of them tell (else 0: a line that moves with the sensor and a wall look
-    alike while the sensor stands)."""
+    least half of them tell (else 0). Where the sensor stood, a steep line and a wall look
+    alike, but a shallow floor line moves with the least change of pitch (``tilt``: the
+    tilt each segment implies, rad; see :class:`~pvfilter.improved.evidence.WorldStatic`).
+    """
     k = len(segments)
     points = indices(scored.take(segments.labels))
-    stayed, telling = static.at(segments.beams.take(points))
     labels = segments.labels.take(points)
+    shift = floor_shift(tilt, STANDING_PITCH_CHANGE, params).take(labels)
+    stayed, telling = static.at(segments.beams.take(points), shift)
     told = np.bincount(labels, telling, k)
     share = np.bincount(labels, stayed, k) / np.maximum(told, 1.0)
     return np.where(told >= 0.5 * segments.sizes, share, 0.0)

@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion, segment_scan
-from pvfilter.improved.evidence import RecentScans, WorldStatic, free_space_gaps, new_points
+from pvfilter.improved.evidence import (
+    STANDING_PITCH_CHANGE,
+    RecentScans,
+    WorldStatic,
+    free_space_gaps,
+    new_points,
+)
+from pvfilter.improved.geometry import floor_shift
 
 from .conftest import room_scan
 
@@ -79,6 +86,29 @@ def test_a_wall_stays_put_in_the_world_and_a_floor_line_moves_with_the_sensor():
     test = WorldStatic(ranges_of(before), ranges_of(before), directions, layout, Motion(), 0.03)
     _, telling = test.at(np.arange(len(before)))
     assert not telling.any()
+
+
+def test_standing_a_shallow_line_that_stayed_put_is_a_wall_and_one_that_moved_is_floor():
+    # the sensor stands; 0.5 deg of pitch would move a floor line at 3 deg by 0.85 m, one
+    # at 20 deg by 1.4 cm: only the shallow one tells
+    level, _ = room_scan(noise_m=0.0)
+    layout = BeamLayout.of(level)
+    beams = np.flatnonzero(level.valid_mask())
+    ranges = ranges_of(level)
+    shallow = floor_shift(math.radians(3.0), STANDING_PITCH_CHANGE, PARAMS)
+    steep = floor_shift(math.radians(20.0), STANDING_PITCH_CHANGE, PARAMS)
+    assert shallow > 0.5 and steep < 0.02
+    test = WorldStatic(ranges, ranges, directions_of(level), layout, Motion(), 0.03)
+    static, telling = test.at(beams, np.full(beams.size, shallow))
+    assert telling.all() and static.all()  # it stayed put: a wall
+    _, telling = test.at(beams, np.full(beams.size, steep))
+    assert not telling.any()  # a steep line barely moves: nothing told
+    moved = WorldStatic(ranges + 0.4, ranges, directions_of(level), layout, Motion(), 0.03)
+    static, telling = moved.at(beams, np.full(beams.size, shallow))
+    assert telling.all() and not static.any()  # it moved while the sensor stood: floor
+    # a sensor that moved along the beams is judged by its own motion, as before
+    driven = WorldStatic(ranges, ranges, directions_of(level), layout, Motion(tx_m=0.3), 0.03)
+    assert np.array_equal(driven.at(beams, np.full(beams.size, shallow))[1], driven.at(beams)[1])
 
 
 def test_recent_scans_keep_the_last_baseline_and_the_motion_since():

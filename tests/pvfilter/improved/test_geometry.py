@@ -10,6 +10,7 @@ from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.geometry import (
     ceiling_min_distance,
     floor_distance,
+    floor_shift,
     implied_tilt,
     lean_ok,
     seen_beyond,
@@ -66,6 +67,14 @@ def test_a_robot_tilting_about_its_axle_brings_the_floor_line_nearer():
             tilt
         )
     assert params.min_line_distance_m == pytest.approx(floor_distance(math.radians(45.0), params))
+
+
+@pytest.mark.parametrize("tilt_deg", [2.0, 5.0, 15.0, 40.0])
+def test_the_floor_line_moves_as_the_derivative_of_its_distance(tilt_deg):
+    params = ImprovedParams(lidar_height_m=0.3, axle_height_m=0.1)
+    tilt, change = math.radians(tilt_deg), 1e-6
+    numeric = (floor_distance(tilt - change, params) - floor_distance(tilt + change, params)) / 2
+    assert floor_shift(tilt, change, params) == pytest.approx(numeric, rel=1e-5)
 
 
 def test_walls_ahead_look_farther_by_one_over_cos_and_unstretch_undoes_it():

@@ -152,7 +152,7 @@ class Told:
     def __init__(self, tells):
         self.tells = tells
 
-    def at(self, beams):
+    def at(self, beams, floor_shift_m=None):
         return np.ones(len(beams), bool), np.full(len(beams), self.tells)
 
 
