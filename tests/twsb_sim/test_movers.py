@@ -127,3 +127,41 @@ def test_a_person_standing_still_poses_the_same_every_time():
     a, b = person.poses(3.0), person.poses(3.0)
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
     assert a[0][0] == pytest.approx((1.0, 1.0, 0.0))
+
+
+def test_static_geoms_are_posed_once_and_nothing_ever_sleeps():
+    """The model skips the house's static geom poses per step (MuJoCo's sleeping), yet
+    the robot and a pushable box standing still stay awake, and the run is the same to
+    the bit as with sleeping off."""
+    import copy
+
+    import mujoco
+
+    from twsb_sim.runner import simulation_for
+
+    table = {
+        "duration_s": 4.0, "house": {"name": "house1", "spawn": 0},
+        "light_furniture": [{"kind": "box", "ahead_m": 2.0, "mass_kg": 5.0}],
+        "pets": [{"waypoints": [[2.0, -1.0], [2.0, 1.0]], "speed_mps": 0.8}],
+    }  # fmt: skip
+    sim = simulation_for(scenario_from_table(table, source="test"), 0)
+    model, data = sim.model, sim.data
+    assert model.opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP
+    plain_model = copy.copy(model)
+    plain_model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    plain = mujoco.MjData(plain_model)
+    mujoco.mj_copyData(plain, plain_model, data)
+    for k in range(1500):  # 3 s standing still: long enough for anything allowed to sleep
+        sim.step(0.0, 0.0)
+        plain.ctrl[:] = data.ctrl
+        mujoco.mj_step(plain_model, plain)
+        if k % 250 == 0:  # the pet walks: its geoms follow, as the LiDAR needs
+            for d in (data, plain):
+                sim.movers.pose(d, float(d.time))
+            mujoco.mj_forward(model, data)
+            mujoco.mj_forward(plain_model, plain)
+            np.testing.assert_array_equal(data.geom_xpos, plain.geom_xpos)
+    assert (data.tree_asleep < 0).all()  # negative: awake
+    np.testing.assert_array_equal(data.qpos, plain.qpos)
+    np.testing.assert_array_equal(data.qvel, plain.qvel)
+    np.testing.assert_array_equal(data.geom_xmat, plain.geom_xmat)

@@ -23,7 +23,9 @@ FREE_MARGIN_M = 0.05  # extra gap between a spawned robot and the nearest obstac
 GRID_STEP_M = 0.25  # spacing of the candidate start positions (m)
 MAX_CLEARANCE_M = 50.0  # clearances are capped here (m)
 MIN_REVERSE_M = 0.3  # a "lane start" pose keeps at least this much room behind (m)
+YAWS = np.array([0.0, math.pi / 2, math.pi, -math.pi / 2])  # rad, the start headings tried
 PRUNE_MARGIN_M = 1e-6  # m, bounding circles grown by this: far above rounding, never prunes a hit
+RAY_BLOCK = 512  # rays tested at a time: the (ray, obstacle) arrays stay in the CPU's cache
 
 
 class Obstacles:
@@ -58,7 +60,8 @@ class Obstacles:
     def is_free(self, xy: np.ndarray, radius_m: float) -> np.ndarray:
         """Whether a disc of ``radius_m`` centred at each point (N, 2) touches nothing."""
         local, _, _ = self._box_frames(xy)
-        inside_box = np.all(np.abs(local) < self.boxes[None, :, 2:4] + radius_m, axis=-1)
+        within = np.abs(local) < self.boxes[None, :, 2:4] + radius_m
+        inside_box = within[..., 0] & within[..., 1]  # cheaper than np.all along an axis of 2
         gap = np.linalg.norm(xy[:, None, :] - self.discs[None, :, :2], axis=-1)
         inside_disc = gap < self.discs[None, :, 2] + radius_m
         return ~(inside_box.any(axis=1) | inside_disc.any(axis=1))
@@ -67,6 +70,16 @@ class Obstacles:
         """How far a disc of ``radius_m`` at each point (N, 2) can move along its heading
         (N,) before touching an obstacle (m, a lower bound, 0 if it already touches)."""
         heading = np.stack((np.cos(yaw_rad), np.sin(yaw_rad)), -1)
+        # in blocks of rays: each ray's result is its own, and a few thousand rays at once
+        # make (ray, obstacle) arrays of megabytes that are slower to fill than to compute
+        blocks = [
+            self._clearance_m(xy[i : i + RAY_BLOCK], heading[i : i + RAY_BLOCK], radius_m)
+            for i in range(0, len(xy), RAY_BLOCK)
+        ]
+        return np.concatenate(blocks) if blocks else np.zeros(0)
+
+    def _clearance_m(self, xy: np.ndarray, heading: np.ndarray, radius_m: float) -> np.ndarray:
+        """:meth:`clearance_m` of points (N, 2) along unit headings (N, 2)."""
         box_t = self._box_clearance(xy, heading, radius_m)
         # disc-disc: solve |p + t d - c| = r_c + radius for the first t >= 0
         rel = xy[:, None, :] - self.discs[None, :, :2]
@@ -88,10 +101,13 @@ class Obstacles:
         """
         n = len(xy)
         half = self.boxes[:, 2:4] + radius_m  # (M, 2)
-        to_centre = self.boxes[None, :, :2] - xy[:, None, :]  # (N, M, 2)
+        # x and y as (N, M) arrays of their own: the same numbers, without the slow
+        # strided passes over an (N, M, 2) array
+        to_x = self.boxes[None, :, 0] - xy[:, None, 0]
+        to_y = self.boxes[None, :, 1] - xy[:, None, 1]
         hx, hy = heading[:, None, 0], heading[:, None, 1]
-        along = to_centre[..., 0] * hx + to_centre[..., 1] * hy
-        across = to_centre[..., 1] * hx - to_centre[..., 0] * hy
+        along = to_x * hx + to_y * hy
+        across = to_y * hx - to_x * hy
         reach = np.hypot(half[:, 0], half[:, 1]) + PRUNE_MARGIN_M  # bounding circles (M,)
         ni, mi = np.nonzero((np.abs(across) <= reach) & (along >= -reach))
         c, s = np.cos(self.boxes[:, 4]), np.sin(self.boxes[:, 4])
@@ -102,8 +118,10 @@ class Obstacles:
         d_local = np.stack((c * h[:, 0] + s * h[:, 1], -s * h[:, 0] + c * h[:, 1]), -1)
         d_local = np.where(np.abs(d_local) < 1e-12, 1e-12, d_local)
         t1, t2 = (-half[mi] - local) / d_local, (half[mi] - local) / d_local
-        t_near = np.minimum(t1, t2).max(axis=-1)
-        t_far = np.maximum(t1, t2).min(axis=-1)
+        near, far = np.minimum(t1, t2), np.maximum(t1, t2)
+        # the larger (smaller) of two columns: a reduction along an axis of 2 costs more
+        t_near = np.maximum(near[:, 0], near[:, 1])
+        t_far = np.minimum(far[:, 0], far[:, 1])
         hit = np.where((t_near <= t_far) & (t_far >= 0), np.maximum(t_near, 0), np.inf)
         nearest = np.full(n, np.inf)
         np.minimum.at(nearest, ni, hit)
@@ -132,11 +150,16 @@ def find_spawn_poses(
         grid = grid[obstacles.is_free(grid, radius + FREE_MARGIN_M)]
         if grid.shape[0] == 0:
             continue
-        yaws = np.array([0.0, math.pi / 2, math.pi, -math.pi / 2])
-        xy = np.repeat(grid, yaws.size, axis=0)
-        yaw = np.tile(yaws, grid.shape[0])
-        ahead = obstacles.clearance_m(xy, yaw, radius)
-        behind = obstacles.clearance_m(xy, yaw + math.pi, radius)
+        # every heading once, ahead and behind: behind 0 is ahead pi and behind -pi/2 is
+        # ahead pi/2 (-pi/2 + pi == pi/2 in floating point), so 6 headings, not 8
+        headings, column = np.unique(np.concatenate((YAWS, YAWS + math.pi)), return_inverse=True)
+        clear = obstacles.clearance_m(
+            np.repeat(grid, headings.size, axis=0), np.tile(headings, grid.shape[0]), radius
+        ).reshape(-1, headings.size)
+        xy = np.repeat(grid, YAWS.size, axis=0)
+        yaw = np.tile(YAWS, grid.shape[0])
+        ahead = clear[:, column[: YAWS.size]].reshape(-1)
+        behind = clear[:, column[YAWS.size :]].reshape(-1)
         lane_score = np.where(behind >= MIN_REVERSE_M, ahead, -1.0)
         for k in (int(np.argmax(lane_score)), int(np.argmax(np.minimum(ahead, behind)))):
             key = (round(float(xy[k, 0]), 6), round(float(xy[k, 1]), 6), float(yaw[k]))

@@ -47,9 +47,12 @@ def why_cannot_stand(
         x0, y0, x1, y1 = house.extent_m
         return f"outside {house.name} (its rooms span x {x0:g} to {x1:g} m, y {y0:g} to {y1:g} m)"
     point = np.array([[x_m, y_m]])
-    for part in house.parts():
-        if part.shape == "plane" or part.z_min_m >= height_m:
-            continue
+    low = [p for p in house.parts() if p.shape != "plane" and p.z_min_m < height_m]
+    # one test against all parts (each part's arithmetic is the same as alone): the usual
+    # answer, "free", without building a hundred one-part obstacle sets (about 8 ms)
+    if Obstacles(low).is_free(point, STANDING_RADIUS_M)[0]:
+        return None
+    for part in low:  # something is in the way: name the first part that is
         if not Obstacles([part]).is_free(point, STANDING_RADIUS_M)[0]:
             return (
                 f"inside or against {part.name} (the robot, {STANDING_RADIUS_M:g} m from its "
