@@ -157,7 +157,9 @@ class WorldStatic:
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
             stood = math.hypot(since.tx_m, since.ty_m) <= 2.0 * tolerance
             pitch_tells = stood & (floor_shift_m > 2.0 * tolerance) & ~np.isnan(earlier)
-            moved = np.where(facing_ok, moved, 0.0)  # a grazing beam: it barely moved
+            # the sensor stood, so no return moved far; at grazing incidence the quotient
+            # above divides by nearly 0 and means nothing: take 0 there
+            moved = np.where(facing_ok, moved, 0.0)
             telling |= pitch_tells
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
