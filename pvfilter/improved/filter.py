@@ -134,8 +134,10 @@ class ImprovedPitchVariationFilter:
             through,
         )
         # check the IMU's estimate against the scan's confident floor line, if any
-        if attitude is not None and not (fresh or coast):
-            self._attitude.check(line_pitch(segments, detection.segment_scores, self.params))
+        if attitude is not None:
+            scores = detection.segment_scores
+            confident = None if fresh or coast else line_pitch(segments, scores, self.params)
+            self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
         if not coast:

@@ -7,6 +7,14 @@ milliseconds more. So the pitch of the scan plane is taken to lie within
 fast pitch change widens the band, a steady tilt keeps it narrow. The rate comes from
 consecutive estimates.
 
+A band that supports a line is not enough to veto one. An estimate that lags cannot
+have seen a pitch change that began within its lag and the sweep: at the onset of a
+shove or a hard stop it still reads level while the scan already shows the floor. So a
+line the band cannot explain is vetoed only where it needs more tilt than the body can
+reach in ``IMU_TIMING_S`` at ``max_pitch_rate_rad_s`` (``Attitude.reach_rad``), unless
+the scan before already showed a strong line beyond the band: the estimate has had a
+scan's time to catch up since, and a line it still cannot explain is not the floor.
+
 Estimators and mounts can be worse than that: a complementary filter leans toward the
 apparent gravity while the robot accelerates (``atan(a / g)``: 3 deg at 0.5 m/s^2) and
 lags a fast pitch by more than its nominal delay, and a LiDAR mounted a degree off
@@ -51,11 +59,14 @@ class Attitude:
         pitch_rad: pitch, rad, positive nose down.
         roll_rad: roll, rad, positive left side up.
         error_rad: how far the scan plane's pitch may be from ``pitch_rad``, rad.
+        reach_rad: how much farther the body may have tilted since the estimate, rad: a
+            line within it is not vetoed (see the module docstring).
     """
 
     pitch_rad: float
     roll_rad: float
     error_rad: float
+    reach_rad: float = 0.0
 
     @property
     def tilt_rad(self) -> float:
@@ -92,6 +103,7 @@ class AttitudeTrack:
         self.rate_rad_s = 0.0  # the latest estimate's rate of change
         self.differences: deque[float] = deque(maxlen=IMU_CHECK_LINES)  # line - estimate, rad
         self.learned_rad = 0.0  # the band the differences call for
+        self.contradicted = False  # the latest scan showed a strong line beyond the band
 
     def update(self, attitude: tuple[float, float] | None, stamp: float) -> Attitude | None:
         """The attitude for the scan at ``stamp`` (None without an IMU)."""
@@ -105,13 +117,17 @@ class AttitudeTrack:
         self.previous = (stamp, pitch)
         default = math.radians(self.params.imu_angle_error_deg)
         band = max(default, self.learned_rad)
-        self.current = Attitude(pitch, roll, band + abs(rate) * IMU_TIMING_S)
+        reach = 0.0 if self.contradicted else self.params.max_pitch_rate_rad_s * IMU_TIMING_S
+        self.current = Attitude(pitch, roll, band + abs(rate) * IMU_TIMING_S, reach)
         return self.current
 
-    def check(self, line_pitch_rad: float | None) -> None:
+    def check(self, line_pitch_rad: float | None, contradicted: bool = False) -> None:
         """Compare the latest estimate with the pitch the scan's confident floor line puts
-        the plane at (None: the scan has none). A line on the up side of a plane the IMU
-        shows tilted may be the ceiling, and is passed over."""
+        the plane at (None: the scan has none), and note whether the scan showed a strong
+        line beyond the estimate's band (``contradicted``: the next scan's estimate vetoes
+        without ``reach_rad``). A line on the up side of a plane the IMU shows tilted may
+        be the ceiling, and is passed over."""
+        self.contradicted = contradicted
         current = self.current
         if line_pitch_rad is None or current is None or self.previous is None:
             return

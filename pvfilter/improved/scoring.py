@@ -29,8 +29,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
 5. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
    error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
    independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
-   explain (a floor line nearer than its tilt allows, where the IMU does not show the
-   plane tilted down on that side) is weighted like a line on the up side. The IMU's band
+   explain (a floor line nearer than its tilt allows, beyond what the body can reach
+   within the estimate's lag, where the IMU does not show the plane tilted down on that
+   side) is weighted like a line on the up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
    Only an IMU that shows the plane tilted beyond its band supports a line: a level
    estimate cannot tell a tilted plane from a level one, and with a wide band its
@@ -82,6 +83,8 @@ class SegmentScores:
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
         scan_scores: per segment, the score from the scan alone (before the IMU's cue).
+        imu_contradicted: a line the scan alone scores above ``p_th`` lies beyond the
+            IMU's band (vetoed or not: see :class:`~pvfilter.improved.imu.Attitude`).
     """
 
     scores: np.ndarray
@@ -92,6 +95,7 @@ class SegmentScores:
     down_side: int
     down_tilt_rad: float = math.nan
     scan_scores: np.ndarray | None = None
+    imu_contradicted: bool = False
 
 
 def geometry_gates(
@@ -174,11 +178,15 @@ def score_segments(
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
         score *= params.up_side_weight
     scan_score = score.copy()
+    contradicted = False
     if attitude is not None:
-        agree, contradict = _imu_agreement(segments, side, tilt, attitude, params)
+        agree, beyond, contradict = _imu_agreement(segments, side, tilt, attitude, params)
+        contradicted = bool((beyond & (scan_score > params.p_th)).any())
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - IMU_SUPPORT), score)
         score[contradict] *= params.up_side_weight
-    return SegmentScores(score, gates, share, new_counts, tilt, down, down_tilt, scan_score)
+    return SegmentScores(
+        score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
+    )
 
 
 def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:
@@ -270,9 +278,10 @@ def _imu_agreement(
     tilt: np.ndarray,
     attitude: Attitude,
     params: ImprovedParams,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
-    (a floor there would need more tilt than the IMU's band allows)."""
+    (a floor there would need more tilt than the IMU's band allows); and it is vetoed (it
+    would need more than the band and ``reach_rad`` together)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
     agree = np.zeros(len(segments), dtype=bool)
     if attitude.tilted:  # else the IMU cannot tell a tilted plane from a level one
@@ -281,5 +290,6 @@ def _imu_agreement(
         agree |= (side == -attitude.down_side) & far
     # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane
     # tilted down on the line's side, the floor is there and only its distance is in doubt
-    contradict = (tilt > magnitude + error) & ~(attitude.tilted & (side == attitude.down_side))
-    return agree, contradict & ~agree
+    unexplained = ~agree & ~(attitude.tilted & (side == attitude.down_side))
+    beyond = unexplained & (tilt > magnitude + error)
+    return agree, beyond, beyond & (tilt > magnitude + error + attitude.reach_rad)

@@ -73,3 +73,18 @@ def test_lines_seen_while_the_estimate_changes_fast_or_on_the_up_side_are_not_co
     assert not track.differences
     track.check(None)  # no confident line
     assert not track.differences
+
+
+def test_a_veto_waits_a_scan_for_a_lagging_estimate_to_catch_up():
+    # the body may have tilted max_pitch_rate * IMU_TIMING_S since the estimate: a line
+    # within that is not vetoed, until a scan has shown one beyond the band
+    track = AttitudeTrack(PARAMS)
+    reach = PARAMS.max_pitch_rate_rad_s * IMU_TIMING_S
+    assert track.update((0.0, 0.0), 0.0).reach_rad == pytest.approx(reach)
+    track.check(None, contradicted=True)  # a strong line beyond the band
+    assert track.update((0.0, 0.0), 0.1).reach_rad == 0.0  # the estimate had time
+    track.check(None, contradicted=False)
+    assert track.update((0.0, 0.0), 0.2).reach_rad == pytest.approx(reach)
+    track.check(None, contradicted=True)
+    track.reset()
+    assert track.update((0.0, 0.0), 0.3).reach_rad == pytest.approx(reach)

@@ -121,6 +121,23 @@ def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_
     assert result.scan_scores[0] == pytest.approx(1.0)
 
 
+def test_a_lagging_imu_vetoes_no_line_the_body_could_have_tilted_to_since_its_estimate():
+    # the onset of a shove: the estimate still reads level, the scan already shows the
+    # floor 10 deg down; the body can reach 17 deg in the estimate's lag (reach_rad)
+    level = Attitude(0.0, 0.0, math.radians(2.0), reach_rad=math.radians(17.0))
+    for tilt_deg, vetoed in ((10.0, False), (22.0, True)):
+        distance = HEIGHT_M / math.sin(math.radians(tilt_deg))
+        _, result = scored(line(distance, -1.5, distance, 1.5, 60), attitude=level)
+        assert result.scan_scores[0] == pytest.approx(1.0)
+        assert result.scores[0] == pytest.approx(PARAMS.up_side_weight if vetoed else 1.0)
+        assert result.imu_contradicted  # beyond the band either way: the next scan vetoes
+    # a line the band explains is not contradicted
+    tilted = Attitude(math.radians(10.0), 0.0, math.radians(2.0))
+    distance = HEIGHT_M / math.sin(math.radians(10.0))
+    _, result = scored(line(distance, -1.5, distance, 1.5, 60), attitude=tilted)
+    assert not result.imu_contradicted
+
+
 def test_an_imu_that_shows_the_plane_level_lends_no_line_its_support():
     # a band as wide as a lagging estimator earns (5 deg), the estimate level: the IMU
     # cannot tell a plane tilted 4 deg from a level one, so a wall ahead at the floor's
