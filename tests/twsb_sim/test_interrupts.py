@@ -156,7 +156,10 @@ def test_export_bag_leaves_no_half_bag(tmp_path, one_episode, how):
     staging = out.with_name(f".{out.name}.partial")
     assert command.interrupt_when(_file_appears(staging), how) == EXIT_INTERRUPTED
     command.check_clean_stop(how)
-    assert not out.exists() and not ros1.exists()
+    # each bag is whole or absent: on a loaded machine the ROS 2 bag may have been
+    # completed (and the ROS 1 one begun) before the signal arrived
+    assert not out.exists() or (out / "metadata.yaml").is_file()
+    assert not ros1.exists() or out.exists()  # the ROS 1 bag is written second
     _no_partials(tmp_path)
     assert main(list(args)) == 0  # the same command again
     assert (out / "metadata.yaml").is_file() and ros1.stat().st_size > 0
