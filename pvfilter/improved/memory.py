@@ -108,9 +108,7 @@ class LevelMemory:
         )
         ranges = np.hypot(moved[:, 0], moved[:, 1])
         beams = layout.beam_of(moved)
-        order = np.argsort(-ranges)  # the nearest point is written last and wins its beam
-        if not layout.ring:  # on a ring every point lands on a beam
-            order = order[beams[order] >= 0]
+        order = nearest_first(beams, ranges, layout)
         target, source = beams[order], known[order]
         view = LevelView.empty(layout.count)
         view.ranges[target] = ranges[order]
@@ -184,6 +182,33 @@ class LevelMemory:
         ages[valid | no_return] = 0.0
         farther[take] = 0.0
         self.state = LevelView(current, ages, ahead, farther)
+
+
+def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
+    """The moved points to write into their beams, in an order in which each beam's
+    nearest point comes last (and wins it); points outside the scan's angles left out.
+
+    Each beam's nearest point is found with one unbuffered minimum per beam, about a
+    third of the cost of sorting all points by range; then each beam has one point to
+    write. Where two points tie for a beam's nearest, the sort by range decides, as it
+    always did (its order among equal ranges picks the one written last).
+    """
+    nearest = np.empty(layout.count)
+    nearest.fill(np.inf)  # no moved point is that far: every range is finite
+    if layout.ring:  # on a ring every point lands on a beam
+        np.minimum.at(nearest, beams, ranges)
+        order = indices(ranges == nearest.take(beams))
+    else:
+        inside = indices(beams >= 0)
+        inside_beams = beams.take(inside)
+        np.minimum.at(nearest, inside_beams, ranges.take(inside))
+        order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
+    if order.size == np.count_nonzero(nearest < np.inf):  # one nearest point per beam
+        return order
+    order = np.argsort(-ranges)
+    if not layout.ring:
+        order = order[beams[order] >= 0]
+    return order
 
 
 def _fill_single_holes(view: LevelView) -> None:
