@@ -16,6 +16,8 @@ from pvfilter.improved.beams import indices
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
+OUTWARD = np.array([-1, 1])  # beam steps: before a line's first point, after its last
+
 
 def extension_claims(
     segments: Segments, lines: np.ndarray, params: ImprovedParams
@@ -38,21 +40,23 @@ def extension_claims(
     firsts = np.searchsorted(segments.labels, lines)
     lasts = np.searchsorted(segments.labels, lines, side="right") - 1
     # (2 * lines, reach) candidate points: before the first and after the last point
-    direction = np.repeat([-1, 1], lines.size)
+    direction = np.repeat(OUTWARD, lines.size)
     owner = np.concatenate((lines, lines))
     ends = np.concatenate((firsts, lasts))
     index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
     inside = (index >= 0) & (index < m)
-    index = np.clip(index, 0, m - 1)
+    index = np.minimum(np.maximum(index, 0), m - 1)  # np.clip without its Python layers
     candidate = points[index]
-    step = candidate - points[np.clip(index - direction[:, None], 0, m - 1)]
+    before = index - direction[:, None]
+    step = candidate - points[np.minimum(np.maximum(before, 0, out=before), m - 1, out=before)]
     ranges = np.hypot(candidate[..., 0], candidate[..., 1])
     normal, centre = segments.normals[owner], segments.centroids[owner]
-    off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
+    offset = (candidate - centre[:, None, :]) * normal[:, None, :]
+    off_line = np.abs(np.add.reduce(offset, axis=2))
     on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
-    joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
-    return index[joined], np.broadcast_to(owner[:, None], index.shape)[joined]
+    joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
+    return index[joined], owner.repeat(np.count_nonzero(joined, axis=1))
 
 
 def spread_claims(
@@ -67,6 +71,9 @@ def spread_claims(
     sensor) and their local direction (within ``line_angle_deg`` of the line's): a wall
     that the line runs into crosses it, and stays out.
 
+    Scoring (the lines' lengths) and the claims ask for the same lines on most scans: the
+    answer is kept in ``segments.memo`` and given again for the same question.
+
     Args:
         segments: the segments.
         lines: the segments that may claim points.
@@ -74,6 +81,20 @@ def spread_claims(
     """
     if lines.size == 0 or len(segments.points) == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    key = ("spread", lines.dtype.str, lines.tobytes(), params.extend_tolerance_m)
+    key += (params.line_angle_deg,)
+    if key not in segments.memo:
+        pairs = _spread_claims(segments, lines, params)
+        for values in pairs:  # given to every caller that asks: none may change them
+            values.flags.writeable = False
+        segments.memo[key] = pairs
+    return segments.memo[key]
+
+
+def _spread_claims(
+    segments: Segments, lines: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`spread_claims`, worked out."""
     points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
     offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)

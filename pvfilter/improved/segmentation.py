@@ -125,6 +125,8 @@ class Segments:
         directions: local line direction per valid point, rad, ``(m,)``.
         across: per segment, its points lie on a line across the direction of travel.
         sizes: points per segment, ``(k,)``.
+        memo: what later stages work out from the segments and would otherwise work out
+            twice (the points that lines claim), by what was asked.
     """
 
     beams: np.ndarray
@@ -133,6 +135,7 @@ class Segments:
     directions: np.ndarray
     across: np.ndarray
     sizes: np.ndarray
+    memo: dict = dataclasses.field(default_factory=dict, init=False, repr=False)
 
     def __len__(self) -> int:
         return int(self.sizes.size)
