@@ -39,7 +39,7 @@ import numpy as np
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.sweep import move_scan
+from pvfilter.improved.sweep import move_xy
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -98,16 +98,18 @@ class LevelMemory:
         state = self.state
         remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
         known = indices(~np.isnan(remembered))
-        moved = move_scan(
-            layout.points(remembered).take(known, axis=0),
+        seen = remembered.take(known)  # the known beams' points, as layout.points gives them
+        x, y = move_xy(
+            seen * layout.cos.take(known),
+            seen * layout.sin.take(known),
             known,
             layout,
             motion,
             (self.time_increment, self.velocity),
             (time_increment, velocity),
         )
-        ranges = np.hypot(moved[:, 0], moved[:, 1])
-        beams = layout.beam_of(moved)
+        ranges = np.hypot(x, y)
+        beams = layout.beam_at(x, y)
         order = nearest_first(beams, ranges, layout)
         target, source = beams[order], known[order]
         view = LevelView.empty(layout.count)
