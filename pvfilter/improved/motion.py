@@ -166,13 +166,13 @@ def estimate_motion(
     q = coarse.apply(layout.shifted(reference_points, shift))
     step = points - q
     # NaN (no return, or a direction-less point) compares False: those beams sit out
-    usable = np.hypot(step[:, 0], step[:, 1]) < association_m
+    usable = nearer_than(step[:, 0], step[:, 1], association_m)
     usable &= directions == directions
     rows = indices(usable)
     if rows.size < MIN_PAIRS:
         return prior
     angle = directions.take(rows)
-    normal_x, normal_y = -np.sin(angle), np.cos(angle)
+    normal_x, normal_y = np.negative(np.sin(angle)), np.cos(angle)
     a, d = q.take(rows, axis=0), step.take(rows, axis=0)
     design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
     np.subtract(normal_y * a[:, 0], normal_x * a[:, 1], out=design[:, 0])
@@ -188,7 +188,7 @@ def estimate_motion(
         return prior
     design, target = design.take(keep, axis=0), target.take(keep)
     solution = _solve(design, target, expected_turn, weights)
-    median = _median(_residuals(design, solution, target))
+    median = _median(_residuals(design, solution, target), scratch=True)
     fine = coarse.then(Motion(*solution))
     return Motion(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
 
@@ -200,10 +200,33 @@ def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarr
     return np.abs(residual, out=residual)
 
 
-def _median(values: np.ndarray) -> float:
-    """The upper median of ``values`` (the middle element when sorted)."""
+def _median(values: np.ndarray, scratch: bool = False) -> float:
+    """The upper median of ``values`` (the middle element when sorted); ``scratch``:
+    ``values`` may be reordered (else a copy is, as ``np.partition`` does)."""
     middle = values.size // 2
-    return float(np.partition(values, middle)[middle])
+    part = values if scratch else values.copy()
+    part.partition(middle)
+    return float(part[middle])
+
+
+def nearer_than(x: np.ndarray, y: np.ndarray, limit: float) -> np.ndarray:
+    """Per point: ``np.hypot(x, y) < limit``, decided the same for every point.
+
+    The squared distance errs by under 3e-16 of itself and ``hypot`` by under an ulp, so a
+    squared distance more than a 1e-9 share away from ``limit**2`` decides the same as
+    ``hypot`` would, for a fraction of its cost; the few nearer the limit get ``hypot``
+    itself. NaN and infinite points compare False both ways. Limits so extreme that the
+    squares over- or underflow take ``hypot`` for every point.
+    """
+    if not 1e-100 < limit < 1e100:
+        return np.hypot(x, y) < limit
+    squared = x * x
+    squared += y * y
+    near = squared < (limit * (1.0 - 1e-9)) ** 2
+    unsure = indices((squared <= (limit * (1.0 + 1e-9)) ** 2) ^ near)
+    if unsure.size:
+        near[unsure] = np.hypot(x.take(unsure), y.take(unsure)) < limit
+    return near
 
 
 def _solve(
