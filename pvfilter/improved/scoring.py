@@ -141,21 +141,27 @@ def score_segments(
         through_valid: per valid point, it lies beyond the level view (None: none does).
     """
     k, labels = len(segments), segments.labels
-    sizes = np.maximum(segments.sizes, 1)
-    any_new = bool(new_valid.any())
-    new_counts = np.bincount(labels, new_valid, k) if any_new else np.zeros(k)
-    share = new_counts / sizes
+    any_new = np.count_nonzero(new_valid) > 0  # (count_nonzero: any() without Python layers)
     if any_new:  # the points that tell: new ones, and those seen through the view
+        sizes = np.maximum(segments.sizes, 1)
+        new_counts = np.bincount(labels, new_valid, k)
         through = np.zeros(k) if through_valid is None else np.bincount(labels, through_valid, k)
         told = new_counts + through
         share = new_counts / np.maximum(told + COINCIDENT_WEIGHT * (sizes - told), 1.0)
+    else:  # no new point: every share is 0 / size
+        new_counts, share = np.zeros(k), np.zeros(k)
     imu_tilted = attitude is not None and attitude.tilted
     # lines are fitted only when a segment across the direction of travel has new points,
     # or the IMU says the plane is tilted (most scans: neither)
-    candidates = segments.across & (segments.sizes >= params.min_points)
-    if not ((candidates & (share > 0.0)).any() or (imu_tilted and candidates.any())):
-        zeros = np.zeros(k)
-        return SegmentScores(zeros, np.zeros(k, bool), share, new_counts, np.full(k, np.nan), 0)
+    fitted = any_new or imu_tilted
+    if fitted:
+        candidates = segments.across & (segments.sizes >= params.min_points)
+        fitted = imu_tilted or np.count_nonzero(candidates & (share > 0.0)) > 0
+        fitted = fitted and np.count_nonzero(candidates) > 0
+    if not fitted:
+        unknown = np.empty(k)
+        unknown.fill(np.nan)  # np.full costs a Python-level call
+        return SegmentScores(np.zeros(k), np.zeros(k, bool), share, new_counts, unknown, 0)
     tilt = implied_tilt(segments.distances, params)
     gates = geometry_gates(segments, tilt, time_increment, params)
     score = np.where(gates, share, 0.0)
