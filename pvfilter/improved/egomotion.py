@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import (
     MIN_PAIRS,
     Motion,
@@ -180,6 +180,7 @@ class EgoMotion:
         beams (new, candidate lines) never take part in a match."""
         reference = unstretch(points, tilt_rad)
         reference = reference.copy() if reference is points else reference
+        moving = indices(moving)
         reference[moving] = np.nan
         if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
             # the match measured these points' ranges already (unstretched alike)

@@ -111,12 +111,12 @@ class LevelMemory:
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
         order = nearest_first(beams, ranges, layout)
-        target, source = beams[order], known[order]
+        target, source = beams.take(order), known.take(order)
         view = LevelView.empty(layout.count)
-        view.ranges[target] = ranges[order]
+        view.ranges[target] = ranges.take(order)
         for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
-            mine[target] = theirs[source]
-        view.farther_s[target] = state.farther_s[source]
+            mine[target] = theirs.take(source)
+        view.farther_s[target] = state.farther_s.take(source)
         _fill_single_holes(view)
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -158,19 +158,19 @@ class LevelMemory:
         current = view.ranges.copy()
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
-        if hold is not None:
+        if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
-        floor[np.isnan(floor)] = -np.inf
+        np.fmax(floor, -np.inf, out=floor)  # NaN (unknown) becomes -inf
         in_front = ranges < floor  # NaN (invalid) compares False
         ahead = np.where(in_front, view.ahead_s + dt, 0.0)  # in front of the view this long
-        settled = ahead > params.max_event_s
+        settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
         if not level:  # a tilted plane: the view only moves, and its clock stands still
             current[settled] = ranges[settled]
             ahead[settled] = 0.0
             self.state = LevelView(current, view.ages, ahead, view.farther_s)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
-        beyond = (ranges > current + margin) | (no_return & ~(current == np.inf))
+        beyond = (ranges > current + margin) | (no_return & (current != np.inf))
         farther = np.where(beyond, view.farther_s + dt, 0.0)
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
