@@ -56,7 +56,7 @@ def extension_claims(
     on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
     joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
-    return index[joined], owner.repeat(np.count_nonzero(joined, axis=1))
+    return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
 
 
 def spread_claims(
@@ -97,12 +97,14 @@ def _spread_claims(
     """:func:`spread_claims`, worked out."""
     points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
-    offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
+    offsets = np.abs(points @ normals.T - np.add.reduce(normals * centres, axis=1))  # (c, lines)
     ranges = np.hypot(points[:, 0], points[:, 1])
     near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
     near &= points @ centres.T > 0.0  # on the line's side of the sensor
     # running along the line, not crossing it (a wall the line runs into)
-    along = np.stack((np.cos(segments.directions), np.sin(segments.directions)), axis=1)
+    along = np.empty((len(points), 2))  # (np.stack is slower)
+    np.cos(segments.directions, out=along[:, 0])
+    np.sin(segments.directions, out=along[:, 1])
     near &= np.abs(along @ normals.T) < math.sin(math.radians(params.line_angle_deg))
     point, line = np.nonzero(near)
     return point, lines[line]

@@ -144,5 +144,5 @@ def seen_beyond(
     beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
     beyond -= HORIZON_M + 0.02 * ranges + bend
     beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
-    seen[lines] = np.count_nonzero(beyond > 0.0, axis=1) >= HORIZON_POINTS
+    seen[lines] = np.add.reduce(beyond > 0.0, axis=1) >= HORIZON_POINTS  # returns beyond
     return seen

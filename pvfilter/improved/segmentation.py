@@ -151,11 +151,14 @@ class Segments:
         cyy = np.bincount(labels, y * y, k) / self.sizes - mean_y * mean_y
         cxy = np.bincount(labels, x * y, k) / self.sizes - mean_x * mean_y
         angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
-        normals = np.stack((-np.sin(angle), np.cos(angle)), axis=1)
+        normals, centroids = np.empty((k, 2)), np.empty((k, 2))  # (np.stack is slower)
+        np.negative(np.sin(angle), out=normals[:, 0])
+        np.cos(angle, out=normals[:, 1])
+        centroids[:, 0], centroids[:, 1] = mean_x, mean_y
         distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
         half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
         along, across = half_sum + root, np.maximum(half_sum - root, 0.0)
-        return np.stack((mean_x, mean_y), axis=1), normals, distances, along, across
+        return centroids, normals, distances, along, across
 
     @property
     def centroids(self) -> np.ndarray:
