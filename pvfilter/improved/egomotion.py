@@ -30,6 +30,7 @@ import numpy as np
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import (
     MIN_PAIRS,
+    STILL,
     Motion,
     coarse_turn,
     estimate_motion,
@@ -189,7 +190,7 @@ class EgoMotion:
         else:
             ranges = np.hypot(reference[:, 0], reference[:, 1])
         self.reference, self.reference_ranges = reference, ranges
-        self.since_reference = Motion()
+        self.since_reference = STILL
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
         self.tilt = tilt_rad

@@ -67,7 +67,7 @@ class Motion:
     def then(self, after: Motion) -> Motion:
         """This motion followed by ``after`` (frames a -> b -> c)."""
         c, s = math.cos(after.theta_rad), math.sin(after.theta_rad)
-        return Motion(
+        return motion_of(
             self.theta_rad + after.theta_rad,
             c * self.tx_m - s * self.ty_m + after.tx_m,
             s * self.tx_m + c * self.ty_m + after.ty_m,
@@ -76,18 +76,37 @@ class Motion:
     def inverse(self) -> Motion:
         """The motion back (frames b -> a)."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        return Motion(
+        return motion_of(
             -self.theta_rad, -(c * self.tx_m + s * self.ty_m), s * self.tx_m - c * self.ty_m
         )
 
     def scaled(self, factor: float) -> Motion:
         """The same rate of motion over ``factor`` times the time (constant velocity)."""
-        return Motion(self.theta_rad * factor, self.tx_m * factor, self.ty_m * factor)
+        return motion_of(self.theta_rad * factor, self.tx_m * factor, self.ty_m * factor)
 
     @property
     def translation_m(self) -> float:
         """Length of the translation, m."""
         return math.hypot(self.tx_m, self.ty_m)
+
+
+STILL = Motion()  # no motion (a Motion is immutable: one serves everywhere)
+
+
+def motion_of(
+    theta_rad: float, tx_m: float, ty_m: float, pairs: int = 0, residual_m: float = math.nan
+) -> Motion:
+    """``Motion(theta_rad, tx_m, ty_m, pairs, residual_m)``, made at half the cost.
+
+    A frozen dataclass sets each field through ``object.__setattr__``; a scan makes a
+    dozen motions (composed, inverted, scaled), so they are made by filling the new
+    object's ``__dict__`` directly: the same object, as ``==``, ``repr`` and pickling see it.
+    """
+    motion = object.__new__(Motion)
+    fields = motion.__dict__
+    fields["theta_rad"], fields["tx_m"], fields["ty_m"] = theta_rad, tx_m, ty_m
+    fields["pairs"], fields["residual_m"] = pairs, residual_m
+    return motion
 
 
 def odometry_motion(previous: np.ndarray, current: np.ndarray) -> Motion:
@@ -162,7 +181,7 @@ def estimate_motion(
     """
     # the coarse turn from the ranges; the translation from the prior, so that the pairs
     # are found where the prior puts the reference points
-    coarse = Motion(shift * layout.increment, prior.tx_m, prior.ty_m)
+    coarse = motion_of(shift * layout.increment, prior.tx_m, prior.ty_m)
     q = coarse.apply(layout.shifted(reference_points, shift))
     step = points - q
     # NaN (no return, or a direction-less point) compares False: those beams sit out
@@ -189,8 +208,8 @@ def estimate_motion(
     design, target = design.take(keep, axis=0), target.take(keep)
     solution = _solve(design, target, expected_turn, weights)
     median = _median(_residuals(design, solution, target), scratch=True)
-    fine = coarse.then(Motion(*solution))
-    return Motion(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
+    fine = coarse.then(motion_of(*solution))
+    return motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
 
 
 def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:
