@@ -36,24 +36,32 @@ def extension_claims(
     reach, m = params.extend_beams, len(segments.points)
     if reach == 0 or lines.size == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    points = segments.points
-    firsts = np.searchsorted(segments.labels, lines)
-    lasts = np.searchsorted(segments.labels, lines, side="right") - 1
+    points, labels = segments.points, segments.labels
+    firsts = labels.searchsorted(lines)
+    lasts = labels.searchsorted(lines, side="right") - 1
     # (2 * lines, reach) candidate points: before the first and after the last point
-    direction = np.repeat(OUTWARD, lines.size)
+    direction = OUTWARD.repeat(lines.size)
     owner = np.concatenate((lines, lines))
     ends = np.concatenate((firsts, lasts))
     index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
-    inside = (index >= 0) & (index < m)
-    index = np.minimum(np.maximum(index, 0), m - 1)  # np.clip without its Python layers
-    candidate = points[index]
     before = index - direction[:, None]
-    step = candidate - points[np.minimum(np.maximum(before, 0, out=before), m - 1, out=before)]
-    ranges = np.hypot(candidate[..., 0], candidate[..., 1])
+    # most lines end well inside the scan: every candidate (and the point before it) is a
+    # point, and nothing needs clipping; else as np.clip, without its Python layers
+    inside = None
+    if not (np.minimum.reduce(firsts) >= reach and np.maximum.reduce(lasts) < m - reach):
+        inside = (index >= 0) & (index < m)
+        index = np.minimum(np.maximum(index, 0), m - 1)
+        before = index - direction[:, None]
+        np.minimum(np.maximum(before, 0, out=before), m - 1, out=before)
+    candidate = points.take(index, axis=0)
+    step = candidate - points.take(before, axis=0)
+    ranges = segments.ranges.take(index)
     normal, centre = segments.normals[owner], segments.centroids[owner]
     offset = (candidate - centre[:, None, :]) * normal[:, None, :]
     off_line = np.abs(np.add.reduce(offset, axis=2))
-    on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
+    on = off_line <= params.extend_tolerance_m + 0.01 * ranges
+    if inside is not None:
+        on &= inside
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
     joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
     return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
@@ -98,8 +106,7 @@ def _spread_claims(
     points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
     offsets = np.abs(points @ normals.T - np.add.reduce(normals * centres, axis=1))  # (c, lines)
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
+    near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
     near &= points @ centres.T > 0.0  # on the line's side of the sensor
     # running along the line, not crossing it (a wall the line runs into)
     along = np.empty((len(points), 2))  # (np.stack is slower)

@@ -129,7 +129,7 @@ def seen_beyond(
     if lines.size == 0:
         return seen
     x, y = segments.points[:, 0], segments.points[:, 1]
-    ranges = np.hypot(x, y)
+    ranges = segments.ranges
     centroids = segments.centroids[lines]
     side = np.sign(centroids[:, 0])  # (c,)
     depth = np.abs(centroids[:, 0])  # the line's x, m

@@ -99,7 +99,7 @@ def geometry_gates(
 ) -> np.ndarray:
     """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane."""
     k = len(segments)
-    starts = np.searchsorted(segments.labels, np.arange(k))
+    starts = segments.labels.searchsorted(np.arange(k))
     ends = np.concatenate((starts[1:], [len(segments.labels)])) - 1
     span_s = (segments.beams[ends] - segments.beams[starts]) * abs(time_increment)
     distances = segments.distances
@@ -169,7 +169,7 @@ def score_segments(
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
-    if static is not None and score.any():
+    if static is not None and np.count_nonzero(score):
         score *= 1.0 - _world_static_share(segments, score > 0.0, static, tilt, params)
     # nothing lies beyond a floor line: returns there show a wall beside open space
     score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
@@ -219,7 +219,8 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
         return own
     points, line = spread_claims(segments, lines, params)
     normals = segments.normals[line]
-    along = segments.points[points, 0] * normals[:, 1] - segments.points[points, 1] * normals[:, 0]
+    x, y = segments.points[:, 0].take(points), segments.points[:, 1].take(points)
+    along = x * normals[:, 1] - y * normals[:, 0]
     k = len(segments)
     count = np.maximum(np.bincount(line, minlength=k), 1)
     mean = np.bincount(line, along, k) / count

@@ -126,7 +126,7 @@ class Segments:
         across: per segment, its points lie on a line across the direction of travel.
         sizes: points per segment, ``(k,)``.
         memo: what later stages work out from the segments and would otherwise work out
-            twice (the points that lines claim), by what was asked.
+            twice (the points' ranges, the points that lines claim), by what was asked.
     """
 
     beams: np.ndarray
@@ -139,6 +139,14 @@ class Segments:
 
     def __len__(self) -> int:
         return int(self.sizes.size)
+
+    @property
+    def ranges(self) -> np.ndarray:
+        """Distance of each point from the sensor, m, ``(m,)`` (kept in ``memo``: the
+        segmentation works it out, and the line stages ask for it again)."""
+        if "ranges" not in self.memo:
+            self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
+        return self.memo["ranges"]
 
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
@@ -213,7 +221,7 @@ def segment_scan(
     labels[cuts] = 1
     labels = labels.cumsum()
     starts = np.concatenate(([0], cuts))
-    return Segments(
+    segments = Segments(
         beams=beams,
         points=points,
         labels=labels,
@@ -221,3 +229,5 @@ def segment_scan(
         across=across[starts],
         sizes=np.concatenate((cuts, [m])) - starts,
     )
+    segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
+    return segments
