@@ -162,7 +162,10 @@ class LevelMemory:
             np.copyto(floor, current, where=hold)
         np.fmax(floor, -np.inf, out=floor)  # NaN (unknown) becomes -inf
         in_front = ranges < floor  # NaN (invalid) compares False
-        ahead = np.where(in_front, view.ahead_s + dt, 0.0)  # in front of the view this long
+        # in front of the view this long: the clocks are finite and >= 0 (sums of time
+        # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
+        ahead = view.ahead_s + dt
+        ahead *= in_front
         settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
         if not level:  # a tilted plane: the view only moves, and its clock stands still
             current[settled] = ranges[settled]
@@ -171,7 +174,8 @@ class LevelMemory:
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = (ranges > current + margin) | (no_return & (current != np.inf))
-        farther = np.where(beyond, view.farther_s + dt, 0.0)
+        farther = view.farther_s + dt
+        farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
