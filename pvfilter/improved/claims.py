@@ -113,7 +113,7 @@ def _spread_claims(
     np.cos(segments.directions, out=along[:, 0])
     np.sin(segments.directions, out=along[:, 1])
     near &= np.abs(along @ normals.T) < math.sin(math.radians(params.line_angle_deg))
-    point, line = np.nonzero(near)
+    point, line = near.nonzero()
     return point, lines[line]
 
 
@@ -146,7 +146,7 @@ def best_claims(
         pairs.append(spread_claims(segments, strong, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
-    order = np.argsort(score[claimer], kind="stable")  # the best claim is written last
+    order = score[claimer].argsort(kind="stable")  # the best claim is written last
     points, claimer = points[order], claimer[order]
     better = score[claimer] > score[owner[points]]
     owner[points[better]] = claimer[better]

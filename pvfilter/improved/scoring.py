@@ -265,7 +265,7 @@ def _down_side(
     if attitude is not None and attitude.tilted:
         return attitude.down_side, attitude.tilt_rad
     strength = np.where(gates, new_counts, 0.0)
-    strongest = int(np.argmax(strength)) if strength.size else 0
+    strongest = int(strength.argmax()) if strength.size else 0
     if strength.size == 0 or strength[strongest] < params.down_side_min_new:
         return 0, math.nan
     return int(side[strongest]), float(tilt[strongest])

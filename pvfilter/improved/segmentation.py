@@ -72,8 +72,8 @@ def _chord_directions(
     at = np.arange(m)
     first, after = np.concatenate(([0], ends)), np.concatenate((ends, [m]))
     lengths = after - first
-    low = np.maximum(at - half_width, np.repeat(first, lengths))
-    high = np.minimum(at + half_width, np.repeat(after - 1, lengths))
+    low = np.maximum(at - half_width, first.repeat(lengths))
+    high = np.minimum(at + half_width, (after - 1).repeat(lengths))
     chord = points.take(high, axis=0)
     chord -= points.take(low, axis=0)
     angle = np.arctan2(chord[:, 1], chord[:, 0])
@@ -219,7 +219,7 @@ def segment_scan(
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1
     labels = np.zeros(m, dtype=np.intp)
     labels[cuts] = 1
-    labels = labels.cumsum()
+    np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
     starts = np.concatenate(([0], cuts))
     segments = Segments(
         beams=beams,
