@@ -105,14 +105,15 @@ def _spread_claims(
     """:func:`spread_claims`, worked out."""
     points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
-    offsets = np.abs(points @ normals.T - np.add.reduce(normals * centres, axis=1))  # (c, lines)
+    # dot: the same BLAS call as @, without the matmul ufunc's layers
+    offsets = np.abs(points.dot(normals.T) - np.add.reduce(normals * centres, axis=1))
     near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
-    near &= points @ centres.T > 0.0  # on the line's side of the sensor
+    near &= points.dot(centres.T) > 0.0  # on the line's side of the sensor
     # running along the line, not crossing it (a wall the line runs into)
     along = np.empty((len(points), 2))  # (np.stack is slower)
     np.cos(segments.directions, out=along[:, 0])
     np.sin(segments.directions, out=along[:, 1])
-    near &= np.abs(along @ normals.T) < math.sin(math.radians(params.line_angle_deg))
+    near &= np.abs(along.dot(normals.T)) < math.sin(math.radians(params.line_angle_deg))
     point, line = near.nonzero()
     return point, lines[line]
 

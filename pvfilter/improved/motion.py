@@ -58,8 +58,9 @@ class Motion:
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add
-        moved = points @ np.array([[c, s], [-s, c]])
+        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add (dot: the
+        # same BLAS call as @, without the matmul ufunc's layers)
+        moved = points.dot(np.array([[c, s], [-s, c]]))
         moved[:, 0] += self.tx_m  # per column: broadcasting a pair over rows is slower
         moved[:, 1] += self.ty_m
         return moved
@@ -214,7 +215,7 @@ def estimate_motion(
 
 def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:
     """Absolute point-to-line residuals of a solution, m."""
-    residual = design @ solution
+    residual = design.dot(solution)  # design @ solution (the same BLAS call, fewer layers)
     residual -= target
     return np.abs(residual, out=residual)
 
@@ -259,9 +260,10 @@ def _solve(
     which turns a -0.0 into 0.0 as the matrix sum did), not as 3 x 3 arrays.
     """
     w_turn, w_shift = weights
-    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design).tolist()
+    # dot: the same BLAS calls as @ (syrk, gemv), without the matmul ufunc's layers
+    (a, b, c), (_, e, f), (_, _, i) = design.T.dot(design).tolist()
     a, b, c, e, f, i = a + w_turn, b + 0.0, c + 0.0, e + w_shift, f + 0.0, i + w_shift
-    r0, r1, r2 = (design.T @ target).tolist()
+    r0, r1, r2 = design.T.dot(target).tolist()
     r0, r1, r2 = r0 + (w_turn * expected_turn + 0.0), r1 + 0.0, r2 + 0.0
     det = a * (e * i - f * f) - b * (b * i - f * c) + c * (b * f - e * c)
     x0 = r0 * (e * i - f * f) - b * (r1 * i - f * r2) + c * (r1 * f - e * r2)
