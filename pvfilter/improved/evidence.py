@@ -161,8 +161,10 @@ class WorldStatic:
         normal_x, normal_y = -np.sin(angle), np.cos(angle)
         facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
         toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
-        with np.errstate(divide="ignore", invalid="ignore"):
-            moved = toward / facing  # how far a static return moved along its beam, m
+        # how far a static return moved along its beam, m; a beam along its surface
+        # (facing 0) never tells, so its quotient is never used: 0 there, without the cost
+        # of an errstate to silence the division by zero
+        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing != 0.0)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_m + 0.01 * ranges
