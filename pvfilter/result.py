@@ -40,4 +40,6 @@ class FilterResult:
 def without_removed(scan: Scan, removed: np.ndarray) -> Scan:
     """``scan`` with the ``removed`` beams set to NaN (the scan itself when none is)."""
     # a scan is immutable, so one that loses no beam is its own filtered copy
-    return scan.with_ranges(np.where(removed, np.nan, scan.ranges)) if removed.any() else scan
+    if not np.count_nonzero(removed):  # (count_nonzero: any() without Python layers)
+        return scan
+    return scan.with_ranges(np.where(removed, np.nan, scan.ranges))

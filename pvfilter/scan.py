@@ -14,6 +14,7 @@ filters never change the array length.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 
@@ -152,4 +153,8 @@ class Scan:
             raise ValueError(
                 f"ranges: must keep the scan's length ({len(self)}), got {ranges.size}"
             )
-        return dataclasses.replace(self, ranges=ranges)
+        # the other fields are this scan's, checked already: a shallow copy instead of a
+        # new scan checked (and its arrays copied) field by field again
+        scan = copy.copy(self)
+        object.__setattr__(scan, "ranges", ranges)
+        return scan

@@ -63,7 +63,12 @@ class BeamLayout:
 
     def beam_of(self, points: np.ndarray) -> np.ndarray:
         """The beam each point lies on, ``(k,)``; -1 where outside the scan's angles."""
-        bearing = np.arctan2(points[:, 1], points[:, 0])
+        return self.beam_at(points[:, 0], points[:, 1])
+
+    def beam_at(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """The beam each point ``(x, y)`` lies on, ``(k,)``; -1 where outside the scan's
+        angles."""
+        bearing = np.arctan2(y, x)
         bearing -= self.angle_min  # in place: this runs on every beam of every scan
         bearing /= self.increment
         beams = np.rint(bearing, out=bearing).astype(np.intp)

@@ -16,6 +16,8 @@ from pvfilter.improved.beams import indices
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
+OUTWARD = np.array([-1, 1])  # beam steps: before a line's first point, after its last
+
 
 def extension_claims(
     segments: Segments, lines: np.ndarray, params: ImprovedParams
@@ -34,25 +36,35 @@ def extension_claims(
     reach, m = params.extend_beams, len(segments.points)
     if reach == 0 or lines.size == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    points = segments.points
-    firsts = np.searchsorted(segments.labels, lines)
-    lasts = np.searchsorted(segments.labels, lines, side="right") - 1
+    points, labels = segments.points, segments.labels
+    firsts = labels.searchsorted(lines)
+    lasts = labels.searchsorted(lines, side="right") - 1
     # (2 * lines, reach) candidate points: before the first and after the last point
-    direction = np.repeat([-1, 1], lines.size)
+    direction = OUTWARD.repeat(lines.size)
     owner = np.concatenate((lines, lines))
     ends = np.concatenate((firsts, lasts))
     index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
-    inside = (index >= 0) & (index < m)
-    index = np.clip(index, 0, m - 1)
-    candidate = points[index]
-    step = candidate - points[np.clip(index - direction[:, None], 0, m - 1)]
-    ranges = np.hypot(candidate[..., 0], candidate[..., 1])
+    before = index - direction[:, None]
+    # most lines end well inside the scan: every candidate (and the point before it) is a
+    # point, and nothing needs clipping; else as np.clip, without its Python layers
+    inside = None
+    if not (np.minimum.reduce(firsts) >= reach and np.maximum.reduce(lasts) < m - reach):
+        inside = (index >= 0) & (index < m)
+        index = np.minimum(np.maximum(index, 0), m - 1)
+        before = index - direction[:, None]
+        np.minimum(np.maximum(before, 0, out=before), m - 1, out=before)
+    candidate = points.take(index, axis=0)
+    step = candidate - points.take(before, axis=0)
+    ranges = segments.ranges.take(index)
     normal, centre = segments.normals[owner], segments.centroids[owner]
-    off_line = np.abs(np.sum((candidate - centre[:, None, :]) * normal[:, None, :], axis=2))
-    on = inside & (off_line <= params.extend_tolerance_m + 0.01 * ranges)
+    offset = (candidate - centre[:, None, :]) * normal[:, None, :]
+    off_line = np.abs(np.add.reduce(offset, axis=2))
+    on = off_line <= params.extend_tolerance_m + 0.01 * ranges
+    if inside is not None:
+        on &= inside
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
-    joined = np.cumprod(on, axis=1).astype(bool)  # up to the first point that is off
-    return index[joined], np.broadcast_to(owner[:, None], index.shape)[joined]
+    joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
+    return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
 
 
 def spread_claims(
@@ -67,6 +79,9 @@ def spread_claims(
     sensor) and their local direction (within ``line_angle_deg`` of the line's): a wall
     that the line runs into crosses it, and stays out.
 
+    Scoring (the lines' lengths) and the claims ask for the same lines on most scans: the
+    answer is kept in ``segments.memo`` and given again for the same question.
+
     Args:
         segments: the segments.
         lines: the segments that may claim points.
@@ -74,16 +89,32 @@ def spread_claims(
     """
     if lines.size == 0 or len(segments.points) == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    key = ("spread", lines.dtype.str, lines.tobytes(), params.extend_tolerance_m)
+    key += (params.line_angle_deg,)
+    if key not in segments.memo:
+        pairs = _spread_claims(segments, lines, params)
+        for values in pairs:  # given to every caller that asks: none may change them
+            values.flags.writeable = False
+        segments.memo[key] = pairs
+    return segments.memo[key]
+
+
+def _spread_claims(
+    segments: Segments, lines: np.ndarray, params: ImprovedParams
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`spread_claims`, worked out."""
     points = segments.points
     normals, centres = segments.normals[lines], segments.centroids[lines]
-    offsets = np.abs(points @ normals.T - np.sum(normals * centres, axis=1))  # (c, lines)
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    near = offsets <= (params.extend_tolerance_m + 0.01 * ranges)[:, None]
-    near &= points @ centres.T > 0.0  # on the line's side of the sensor
+    # dot: the same BLAS call as @, without the matmul ufunc's layers
+    offsets = np.abs(points.dot(normals.T) - np.add.reduce(normals * centres, axis=1))
+    near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
+    near &= points.dot(centres.T) > 0.0  # on the line's side of the sensor
     # running along the line, not crossing it (a wall the line runs into)
-    along = np.stack((np.cos(segments.directions), np.sin(segments.directions)), axis=1)
-    near &= np.abs(along @ normals.T) < math.sin(math.radians(params.line_angle_deg))
-    point, line = np.nonzero(near)
+    along = np.empty((len(points), 2))  # (np.stack is slower)
+    np.cos(segments.directions, out=along[:, 0])
+    np.sin(segments.directions, out=along[:, 1])
+    near &= np.abs(along.dot(normals.T)) < math.sin(math.radians(params.line_angle_deg))
+    point, line = near.nonzero()
     return point, lines[line]
 
 
@@ -116,7 +147,7 @@ def best_claims(
         pairs.append(spread_claims(segments, strong, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
-    order = np.argsort(score[claimer], kind="stable")  # the best claim is written last
+    order = score[claimer].argsort(kind="stable")  # the best claim is written last
     points, claimer = points[order], claimer[order]
     better = score[claimer] > score[owner[points]]
     owner[points[better]] = claimer[better]

@@ -168,9 +168,11 @@ def build_detection(
     claim_scores[segments.beams] = best
     candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
     candidates = np.zeros(n, dtype=bool)
-    if candidate.any():
+    tilted = False
+    if np.count_nonzero(candidate):  # (count_nonzero: any() without Python layers)
         candidates[segments.beams] = candidate.take(labels)
-    tilted = bool((candidate & (scores.new_counts >= params.down_side_min_new)).any())
+        strong = candidate & (scores.new_counts >= params.down_side_min_new)
+        tilted = np.count_nonzero(strong) > 0
     return LineDetection(
         scan=scan,
         points=points,

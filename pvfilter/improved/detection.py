@@ -63,7 +63,7 @@ def detect_lines(
     scores = score_segments(
         segments, new_valid, scan.time_increment, attitude, params, static, through_valid
     )
-    if scores.scores.any():
+    if np.count_nonzero(scores.scores):
         owner, best = best_claims(segments, scores.scores, scores.new_counts, params)
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))

@@ -27,9 +27,10 @@ import math
 
 import numpy as np
 
-from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import (
     MIN_PAIRS,
+    STILL,
     Motion,
     coarse_turn,
     estimate_motion,
@@ -180,6 +181,7 @@ class EgoMotion:
         beams (new, candidate lines) never take part in a match."""
         reference = unstretch(points, tilt_rad)
         reference = reference.copy() if reference is points else reference
+        moving = indices(moving)
         reference[moving] = np.nan
         if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
             # the match measured these points' ranges already (unstretched alike)
@@ -188,7 +190,7 @@ class EgoMotion:
         else:
             ranges = np.hypot(reference[:, 0], reference[:, 1])
         self.reference, self.reference_ranges = reference, ranges
-        self.since_reference = Motion()
+        self.since_reference = STILL
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
         self.tilt = tilt_rad

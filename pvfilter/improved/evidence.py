@@ -37,7 +37,7 @@ def free_space_gaps(
     that comes into range is not new.
     """
     unknown = np.isnan(level)
-    nearest = window_minimum(np.where(unknown, np.inf, level), WINDOW_BEAMS, layout)
+    nearest = window_minimum(np.fmin(level, np.inf), WINDOW_BEAMS, layout)  # NaN: inf
     np.minimum(nearest, range_max, out=nearest)
     gaps = nearest - ranges
     gaps[unknown] = np.nan
@@ -69,6 +69,20 @@ def seen_through(
     return gaps < -(margin_m + margin_rel * ranges)  # NaN compares False
 
 
+def free_space_evidence(
+    gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`new_points` and :func:`seen_through` in one pass: the margin is worked out
+    once for both.
+
+    Args as :func:`new_points`.
+    """
+    margin = margin_rel * ranges
+    margin += margin_m  # margin_m + margin_rel * ranges, as the two functions add them
+    new = gaps > margin  # NaN (unknown, invalid) compares False
+    return new, gaps < np.negative(margin, out=margin)
+
+
 def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:
     """The least of ``values`` over beams ``i - half .. i + half`` (no NaN in ``values``).
 
@@ -86,8 +100,8 @@ def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndar
         padded = np.concatenate((values[n - half :], values, values[:half]))
     else:
         padded = np.concatenate((values[:1].repeat(half), values, values[-1:].repeat(half)))
-    least = padded[:n].copy()
-    for offset in range(1, 2 * half + 1):
+    least = np.minimum(padded[:n], padded[1 : n + 1])
+    for offset in range(2, 2 * half + 1):
         np.minimum(least, padded[offset : offset + n], out=least)
     return least
 
@@ -147,8 +161,10 @@ class WorldStatic:
         normal_x, normal_y = -np.sin(angle), np.cos(angle)
         facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
         toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
-        with np.errstate(divide="ignore", invalid="ignore"):
-            moved = toward / facing  # how far a static return moved along its beam, m
+        # how far a static return moved along its beam, m; a beam along its surface
+        # (facing 0) never tells, so its quotient is never used: 0 there, without the cost
+        # of an errstate to silence the division by zero
+        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing != 0.0)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_m + 0.01 * ranges

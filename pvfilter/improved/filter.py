@@ -27,9 +27,8 @@ from pvfilter.improved.egomotion import EgoMotion, Match
 from pvfilter.improved.evidence import (
     RecentScans,
     WorldStatic,
+    free_space_evidence,
     free_space_gaps,
-    new_points,
-    seen_through,
 )
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
@@ -218,19 +217,18 @@ class ImprovedPitchVariationFilter:
         seen through it, the view itself, and the world-static test against the scans of the last
         ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
         params, layout = self.params, self._layout
-        new = np.zeros(len(scan), dtype=bool)
-        through = np.zeros(len(scan), dtype=bool)
         if fresh:
-            return new, through, None, None
+            return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
         view = self._memory.view(
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
         earlier = self._recent.moved(step)
         if coast:  # the motion is the prior's: nothing is compared
-            return new, through, view, None
+            return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
-        new = new_points(gaps, ranges, params.free_margin_m, params.free_margin_rel)
-        through = seen_through(gaps, ranges, params.free_margin_m, params.free_margin_rel)
+        new, through = free_space_evidence(
+            gaps, ranges, params.free_margin_m, params.free_margin_rel
+        )
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier

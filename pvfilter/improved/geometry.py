@@ -17,6 +17,8 @@ ends at that line or nearer. A return beyond it shows the line is not the floor.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from pvfilter.improved.beams import indices
@@ -98,7 +100,7 @@ def lean_ok(
         params: ``max_roll_deg`` and ``max_pitch_rate_rad_s``.
     """
     tan_tilt = np.tan(np.maximum(tilt, 1e-6))
-    roll_term = np.sin(np.radians(params.max_roll_deg)) / tan_tilt
+    roll_term = math.sin(math.radians(params.max_roll_deg)) / tan_tilt  # as np.sin, np.radians
     length = np.sqrt(12.0 * np.maximum(spread_along, 1e-12))
     bend = distance / tan_tilt * params.max_pitch_rate_rad_s * time_span_s / length
     bound = np.arctan(roll_term + bend)
@@ -129,12 +131,12 @@ def seen_beyond(
     if lines.size == 0:
         return seen
     x, y = segments.points[:, 0], segments.points[:, 1]
-    ranges = np.hypot(x, y)
+    ranges = segments.ranges
     centroids = segments.centroids[lines]
     side = np.sign(centroids[:, 0])  # (c,)
     depth = np.abs(centroids[:, 0])  # the line's x, m
     cot = 1.0 / np.tan(np.maximum(tilt[lines], 1e-3))
-    lean = np.sin(np.radians(params.max_roll_deg)) * cot
+    lean = math.sin(math.radians(params.max_roll_deg)) * cot  # as np.sin, np.radians
     # time between each return's beam and the line's middle beam, s
     middle = (
         np.bincount(segments.labels, segments.beams, len(segments))[lines] / segments.sizes[lines]
@@ -144,5 +146,5 @@ def seen_beyond(
     beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
     beyond -= HORIZON_M + 0.02 * ranges + bend
     beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
-    seen[lines] = np.count_nonzero(beyond > 0.0, axis=1) >= HORIZON_POINTS
+    seen[lines] = np.add.reduce(beyond > 0.0, axis=1) >= HORIZON_POINTS  # returns beyond
     return seen

@@ -58,8 +58,9 @@ class Motion:
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add
-        moved = points @ np.array([[c, s], [-s, c]])
+        # a matrix product, not x c - y s by hand: BLAS fuses multiply and add (dot: the
+        # same BLAS call as @, without the matmul ufunc's layers)
+        moved = points.dot(np.array([[c, s], [-s, c]]))
         moved[:, 0] += self.tx_m  # per column: broadcasting a pair over rows is slower
         moved[:, 1] += self.ty_m
         return moved
@@ -67,7 +68,7 @@ class Motion:
     def then(self, after: Motion) -> Motion:
         """This motion followed by ``after`` (frames a -> b -> c)."""
         c, s = math.cos(after.theta_rad), math.sin(after.theta_rad)
-        return Motion(
+        return motion_of(
             self.theta_rad + after.theta_rad,
             c * self.tx_m - s * self.ty_m + after.tx_m,
             s * self.tx_m + c * self.ty_m + after.ty_m,
@@ -76,18 +77,37 @@ class Motion:
     def inverse(self) -> Motion:
         """The motion back (frames b -> a)."""
         c, s = math.cos(self.theta_rad), math.sin(self.theta_rad)
-        return Motion(
+        return motion_of(
             -self.theta_rad, -(c * self.tx_m + s * self.ty_m), s * self.tx_m - c * self.ty_m
         )
 
     def scaled(self, factor: float) -> Motion:
         """The same rate of motion over ``factor`` times the time (constant velocity)."""
-        return Motion(self.theta_rad * factor, self.tx_m * factor, self.ty_m * factor)
+        return motion_of(self.theta_rad * factor, self.tx_m * factor, self.ty_m * factor)
 
     @property
     def translation_m(self) -> float:
         """Length of the translation, m."""
         return math.hypot(self.tx_m, self.ty_m)
+
+
+STILL = Motion()  # no motion (a Motion is immutable: one serves everywhere)
+
+
+def motion_of(
+    theta_rad: float, tx_m: float, ty_m: float, pairs: int = 0, residual_m: float = math.nan
+) -> Motion:
+    """``Motion(theta_rad, tx_m, ty_m, pairs, residual_m)``, made at half the cost.
+
+    A frozen dataclass sets each field through ``object.__setattr__``; a scan makes a
+    dozen motions (composed, inverted, scaled), so they are made by filling the new
+    object's ``__dict__`` directly: the same object, as ``==``, ``repr`` and pickling see it.
+    """
+    motion = object.__new__(Motion)
+    fields = motion.__dict__
+    fields["theta_rad"], fields["tx_m"], fields["ty_m"] = theta_rad, tx_m, ty_m
+    fields["pairs"], fields["residual_m"] = pairs, residual_m
+    return motion
 
 
 def odometry_motion(previous: np.ndarray, current: np.ndarray) -> Motion:
@@ -162,17 +182,17 @@ def estimate_motion(
     """
     # the coarse turn from the ranges; the translation from the prior, so that the pairs
     # are found where the prior puts the reference points
-    coarse = Motion(shift * layout.increment, prior.tx_m, prior.ty_m)
+    coarse = motion_of(shift * layout.increment, prior.tx_m, prior.ty_m)
     q = coarse.apply(layout.shifted(reference_points, shift))
     step = points - q
     # NaN (no return, or a direction-less point) compares False: those beams sit out
-    usable = np.hypot(step[:, 0], step[:, 1]) < association_m
+    usable = nearer_than(step[:, 0], step[:, 1], association_m)
     usable &= directions == directions
     rows = indices(usable)
     if rows.size < MIN_PAIRS:
         return prior
     angle = directions.take(rows)
-    normal_x, normal_y = -np.sin(angle), np.cos(angle)
+    normal_x, normal_y = np.negative(np.sin(angle)), np.cos(angle)
     a, d = q.take(rows, axis=0), step.take(rows, axis=0)
     design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
     np.subtract(normal_y * a[:, 0], normal_x * a[:, 1], out=design[:, 0])
@@ -188,22 +208,45 @@ def estimate_motion(
         return prior
     design, target = design.take(keep, axis=0), target.take(keep)
     solution = _solve(design, target, expected_turn, weights)
-    median = _median(_residuals(design, solution, target))
-    fine = coarse.then(Motion(*solution))
-    return Motion(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
+    median = _median(_residuals(design, solution, target), scratch=True)
+    fine = coarse.then(motion_of(*solution))
+    return motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
 
 
 def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:
     """Absolute point-to-line residuals of a solution, m."""
-    residual = design @ solution
+    residual = design.dot(solution)  # design @ solution (the same BLAS call, fewer layers)
     residual -= target
     return np.abs(residual, out=residual)
 
 
-def _median(values: np.ndarray) -> float:
-    """The upper median of ``values`` (the middle element when sorted)."""
+def _median(values: np.ndarray, scratch: bool = False) -> float:
+    """The upper median of ``values`` (the middle element when sorted); ``scratch``:
+    ``values`` may be reordered (else a copy is, as ``np.partition`` does)."""
     middle = values.size // 2
-    return float(np.partition(values, middle)[middle])
+    part = values if scratch else values.copy()
+    part.partition(middle)
+    return float(part[middle])
+
+
+def nearer_than(x: np.ndarray, y: np.ndarray, limit: float) -> np.ndarray:
+    """Per point: ``np.hypot(x, y) < limit``, decided the same for every point.
+
+    The squared distance errs by under 3e-16 of itself and ``hypot`` by under an ulp, so a
+    squared distance more than a 1e-9 share away from ``limit**2`` decides the same as
+    ``hypot`` would, for a fraction of its cost; the few nearer the limit get ``hypot``
+    itself. NaN and infinite points compare False both ways. Limits so extreme that the
+    squares over- or underflow take ``hypot`` for every point.
+    """
+    if not 1e-100 < limit < 1e100:
+        return np.hypot(x, y) < limit
+    squared = x * x
+    squared += y * y
+    near = squared < (limit * (1.0 - 1e-9)) ** 2
+    unsure = indices((squared <= (limit * (1.0 + 1e-9)) ** 2) ^ near)
+    if unsure.size:
+        near[unsure] = np.hypot(x.take(unsure), y.take(unsure)) < limit
+    return near
 
 
 def _solve(
@@ -217,9 +260,10 @@ def _solve(
     which turns a -0.0 into 0.0 as the matrix sum did), not as 3 x 3 arrays.
     """
     w_turn, w_shift = weights
-    (a, b, c), (_, e, f), (_, _, i) = (design.T @ design).tolist()
+    # dot: the same BLAS calls as @ (syrk, gemv), without the matmul ufunc's layers
+    (a, b, c), (_, e, f), (_, _, i) = design.T.dot(design).tolist()
     a, b, c, e, f, i = a + w_turn, b + 0.0, c + 0.0, e + w_shift, f + 0.0, i + w_shift
-    r0, r1, r2 = (design.T @ target).tolist()
+    r0, r1, r2 = design.T.dot(target).tolist()
     r0, r1, r2 = r0 + (w_turn * expected_turn + 0.0), r1 + 0.0, r2 + 0.0
     det = a * (e * i - f * f) - b * (b * i - f * c) + c * (b * f - e * c)
     x0 = r0 * (e * i - f * f) - b * (r1 * i - f * r2) + c * (r1 * f - e * r2)

@@ -103,7 +103,7 @@ def geometry_gates(
 ) -> np.ndarray:
     """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane."""
     k = len(segments)
-    starts = np.searchsorted(segments.labels, np.arange(k))
+    starts = segments.labels.searchsorted(np.arange(k))
     ends = np.concatenate((starts[1:], [len(segments.labels)])) - 1
     span_s = (segments.beams[ends] - segments.beams[starts]) * abs(time_increment)
     distances = segments.distances
@@ -145,21 +145,27 @@ def score_segments(
         through_valid: per valid point, it lies beyond the level view (None: none does).
     """
     k, labels = len(segments), segments.labels
-    sizes = np.maximum(segments.sizes, 1)
-    any_new = bool(new_valid.any())
-    new_counts = np.bincount(labels, new_valid, k) if any_new else np.zeros(k)
-    share = new_counts / sizes
+    any_new = np.count_nonzero(new_valid) > 0  # (count_nonzero: any() without Python layers)
     if any_new:  # the points that tell: new ones, and those seen through the view
+        sizes = np.maximum(segments.sizes, 1)
+        new_counts = np.bincount(labels, new_valid, k)
         through = np.zeros(k) if through_valid is None else np.bincount(labels, through_valid, k)
         told = new_counts + through
         share = new_counts / np.maximum(told + COINCIDENT_WEIGHT * (sizes - told), 1.0)
+    else:  # no new point: every share is 0 / size
+        new_counts, share = np.zeros(k), np.zeros(k)
     imu_tilted = attitude is not None and attitude.tilted
     # lines are fitted only when a segment across the direction of travel has new points,
     # or the IMU says the plane is tilted (most scans: neither)
-    candidates = segments.across & (segments.sizes >= params.min_points)
-    if not ((candidates & (share > 0.0)).any() or (imu_tilted and candidates.any())):
-        zeros = np.zeros(k)
-        return SegmentScores(zeros, np.zeros(k, bool), share, new_counts, np.full(k, np.nan), 0)
+    fitted = any_new or imu_tilted
+    if fitted:
+        candidates = segments.across & (segments.sizes >= params.min_points)
+        fitted = imu_tilted or np.count_nonzero(candidates & (share > 0.0)) > 0
+        fitted = fitted and np.count_nonzero(candidates) > 0
+    if not fitted:
+        unknown = np.empty(k)
+        unknown.fill(np.nan)  # np.full costs a Python-level call
+        return SegmentScores(np.zeros(k), np.zeros(k, bool), share, new_counts, unknown, 0)
     tilt = implied_tilt(segments.distances, params)
     gates = geometry_gates(segments, tilt, time_increment, params)
     score = np.where(gates, share, 0.0)
@@ -167,7 +173,7 @@ def score_segments(
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
-    if static is not None and score.any():
+    if static is not None and np.count_nonzero(score):
         score *= 1.0 - _world_static_share(segments, score > 0.0, static, tilt, params)
     # nothing lies beyond a floor line: returns there show a wall beside open space
     score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
@@ -221,7 +227,8 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
         return own
     points, line = spread_claims(segments, lines, params)
     normals = segments.normals[line]
-    along = segments.points[points, 0] * normals[:, 1] - segments.points[points, 1] * normals[:, 0]
+    x, y = segments.points[:, 0].take(points), segments.points[:, 1].take(points)
+    along = x * normals[:, 1] - y * normals[:, 0]
     k = len(segments)
     count = np.maximum(np.bincount(line, minlength=k), 1)
     mean = np.bincount(line, along, k) / count
@@ -266,7 +273,7 @@ def _down_side(
     if attitude is not None and attitude.tilted:
         return attitude.down_side, attitude.tilt_rad
     strength = np.where(gates, new_counts, 0.0)
-    strongest = int(np.argmax(strength)) if strength.size else 0
+    strongest = int(strength.argmax()) if strength.size else 0
     if strength.size == 0 or strength[strongest] < params.down_side_min_new:
         return 0, math.nan
     return int(side[strongest]), float(tilt[strongest])

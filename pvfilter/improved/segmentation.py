@@ -20,13 +20,18 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 
 import numpy as np
 
+from pvfilter.improved.beams import indices
 from pvfilter.improved.params import ImprovedParams
 
 MIN_HALF_WIDTH = 3  # beams: the chord spans at least this many neighbours on each side
 MAX_HALF_WIDTH = 40  # beams: and at most this many (20 deg at 2 beams per degree)
+SINE_BAND_RAD = 1e-6  # rad: a direction this far from a sine bound's angle is on one
+# side of it: the sine differs from the bound by at least 2 sin^2(band / 2) = 5e-13 even
+# next to pi/2, where the sine is flattest, far more than its rounding (1e-16)
 
 
 def local_directions(
@@ -50,26 +55,63 @@ def local_directions(
     m = len(points)
     if m == 0:
         return np.zeros(0)
-    at = np.arange(m)
     if runs is None:
-        low, high = np.maximum(at - half_width, 0), np.minimum(at + half_width, m - 1)
-    else:  # a run's first point is >= 0 and its last <= m - 1: they bound the scan too
-        ends = (runs[1:] != runs[:-1]).nonzero()[0] + 1  # first point of each later run
-        low = np.maximum(at - half_width, np.concatenate(([0], ends)).take(runs))
-        high = np.minimum(at + half_width, np.concatenate((ends, [m])).take(runs) - 1)
+        return _chord_directions(points, half_width, np.zeros(0, dtype=np.intp))
+    return _chord_directions(points, half_width, (runs[1:] != runs[:-1]).nonzero()[0] + 1)
+
+
+def _chord_directions(
+    points: np.ndarray, half_width: np.ndarray | int, ends: np.ndarray
+) -> np.ndarray:
+    """:func:`local_directions` of ``m > 0`` points whose later runs start at ``ends``.
+
+    Each point's run bounds are its run's first and last point, repeated over the run:
+    a run's first point is >= 0 and its last <= m - 1, so they bound the scan too.
+    """
+    m = len(points)
+    at = np.arange(m)
+    first, after = np.concatenate(([0], ends)), np.concatenate((ends, [m]))
+    lengths = after - first
+    low = np.maximum(at - half_width, first.repeat(lengths))
+    high = np.minimum(at + half_width, (after - 1).repeat(lengths))
     chord = points.take(high, axis=0)
     chord -= points.take(low, axis=0)
     angle = np.arctan2(chord[:, 1], chord[:, 0])
-    # a line has no sense of direction: fold into (-pi/2, pi/2], in place
-    np.subtract(angle, np.pi, out=angle, where=angle > 0.5 * np.pi)
-    np.add(angle, np.pi, out=angle, where=angle <= -0.5 * np.pi)
+    # a line has no sense of direction: fold into (-pi/2, pi/2], in place (on the indices
+    # of the angles to fold: a masked ufunc costs more than gathering the few there are)
+    folded = indices(angle > 0.5 * np.pi)
+    angle[folded] -= np.pi
+    folded = indices(angle <= -0.5 * np.pi)
+    angle[folded] += np.pi
     return angle
 
 
 def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
     """Neighbours on each side that make a chord of about ``chord_m`` at each range, beams."""
-    beams = np.ceil(0.5 * chord_m / (np.maximum(ranges, 1e-3) * increment))
-    return np.clip(beams, MIN_HALF_WIDTH, MAX_HALF_WIDTH).astype(np.intp)
+    beams = np.maximum(ranges, 1e-3)
+    beams *= increment
+    np.ceil(np.divide(0.5 * chord_m, beams, out=beams), out=beams)
+    # np.clip's bounds, without its Python layers
+    np.minimum(np.maximum(beams, MIN_HALF_WIDTH, out=beams), MAX_HALF_WIDTH, out=beams)
+    return beams.astype(np.intp)
+
+
+def across_travel(directions: np.ndarray, line_angle_deg: float) -> np.ndarray:
+    """Per point: its local direction lies within ``line_angle_deg`` of the y axis,
+    ``|sin(direction)| > cos(line_angle)``, for directions in ``[-pi/2, pi/2]``.
+
+    ``|sin|`` rises with ``|direction|`` there, so only directions within
+    ``SINE_BAND_RAD`` of the bound's angle need the sine; the rest compare ``|direction|``
+    with that angle, at a fraction of the sine's cost, and decide the same.
+    """
+    bound = np.cos(np.radians(line_angle_deg))
+    angle = math.asin(bound)  # |direction| at the bound, rad
+    size = np.abs(directions)
+    across = size > angle + SINE_BAND_RAD
+    near = indices((size >= angle - SINE_BAND_RAD) & ~across)
+    if near.size:
+        across[near] = np.abs(np.sin(directions.take(near))) > bound
+    return across
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -83,6 +125,8 @@ class Segments:
         directions: local line direction per valid point, rad, ``(m,)``.
         across: per segment, its points lie on a line across the direction of travel.
         sizes: points per segment, ``(k,)``.
+        memo: what later stages work out from the segments and would otherwise work out
+            twice (the points' ranges, the points that lines claim), by what was asked.
     """
 
     beams: np.ndarray
@@ -91,9 +135,18 @@ class Segments:
     directions: np.ndarray
     across: np.ndarray
     sizes: np.ndarray
+    memo: dict = dataclasses.field(default_factory=dict, init=False, repr=False)
 
     def __len__(self) -> int:
         return int(self.sizes.size)
+
+    @property
+    def ranges(self) -> np.ndarray:
+        """Distance of each point from the sensor, m, ``(m,)`` (kept in ``memo``: the
+        segmentation works it out, and the line stages ask for it again)."""
+        if "ranges" not in self.memo:
+            self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
+        return self.memo["ranges"]
 
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
@@ -106,11 +159,14 @@ class Segments:
         cyy = np.bincount(labels, y * y, k) / self.sizes - mean_y * mean_y
         cxy = np.bincount(labels, x * y, k) / self.sizes - mean_x * mean_y
         angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
-        normals = np.stack((-np.sin(angle), np.cos(angle)), axis=1)
+        normals, centroids = np.empty((k, 2)), np.empty((k, 2))  # (np.stack is slower)
+        np.negative(np.sin(angle), out=normals[:, 0])
+        np.cos(angle, out=normals[:, 1])
+        centroids[:, 0], centroids[:, 1] = mean_x, mean_y
         distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
         half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
         along, across = half_sum + root, np.maximum(half_sum - root, 0.0)
-        return np.stack((mean_x, mean_y), axis=1), normals, distances, along, across
+        return centroids, normals, distances, along, across
 
     @property
     def centroids(self) -> np.ndarray:
@@ -157,17 +213,15 @@ def segment_scan(
     step = points[1:] - points[:-1]
     gap = np.hypot(step[:, 0], step[:, 1])
     jumps = gap > params.break_distance_m + 0.02 * ranges[1:]
-    runs = np.zeros(m, dtype=np.intp)
-    np.cumsum(jumps, dtype=np.intp, out=runs[1:])  # dtype: no cast per element
     half_widths = chord_half_widths(ranges, increment, params.chord_m)
-    directions = local_directions(points, half_widths, runs)
-    across = np.abs(np.sin(directions)) > np.cos(np.radians(params.line_angle_deg))
+    directions = _chord_directions(points, half_widths, jumps.nonzero()[0] + 1)
+    across = across_travel(directions, params.line_angle_deg)
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1
     labels = np.zeros(m, dtype=np.intp)
     labels[cuts] = 1
-    labels = labels.cumsum()
+    np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
     starts = np.concatenate(([0], cuts))
-    return Segments(
+    segments = Segments(
         beams=beams,
         points=points,
         labels=labels,
@@ -175,3 +229,5 @@ def segment_scan(
         across=across[starts],
         sizes=np.concatenate((cuts, [m])) - starts,
     )
+    segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
+    return segments

@@ -116,9 +116,32 @@ def move_scan(
         before: the earlier scan's time increment (s) and velocity (motion per second).
         after: the later scan's.
     """
+    moved = np.empty_like(points)
+    moved[:, 0], moved[:, 1] = move_xy(
+        points[:, 0], points[:, 1], beams, layout, motion, before, after
+    )
+    return moved
+
+
+def move_xy(
+    x: np.ndarray,
+    y: np.ndarray,
+    beams: np.ndarray,
+    layout: BeamLayout,
+    motion: Motion,
+    before: tuple[float, Motion],
+    after: tuple[float, Motion],
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`move_scan` of the points ``(x, y)``, m: the moved x and y, each contiguous
+    (the level view takes bearings and ranges of them, which cost less on contiguous
+    arrays than on the columns of one).
+
+    The same operations as written out in :func:`move_scan`'s formula, in place where a
+    temporary would be thrown away (``a + b`` and ``b + a`` are the same float).
+    """
     (increment_before, velocity_before), (increment_after, velocity_after) = before, after
-    offsets = layout.mid_scan_offsets().take(beams)
-    tau = offsets * increment_before  # s
+    tau = layout.mid_scan_offsets().take(beams)
+    tau *= increment_before  # s
     # the point lands about theta / increment beams away from where it was seen (on a ring,
     # past the seam it is seen a scan period earlier or later)
     turn_beams = motion.theta_rad / layout.increment
@@ -127,21 +150,33 @@ def move_scan(
         _wrap_once(landing, turn_beams, layout.count)
     else:
         np.clip(landing, 0.0, layout.count - 1.0, out=landing)
-    tau_after = (landing - 0.5 * (layout.count - 1)) * increment_after
+    landing -= 0.5 * (layout.count - 1)
+    tau_after = np.multiply(landing, increment_after, out=landing)  # s
     # each point turns by theta plus a few degrees at most (the turn rates times half a
     # scan): second order in that small part, as in _turn_and_shift
     small = velocity_after.theta_rad * tau_after
     small -= velocity_before.theta_rad * tau
-    x = points[:, 0] - velocity_before.tx_m * tau
-    y = points[:, 1] - velocity_before.ty_m * tau
+    x = x - velocity_before.tx_m * tau
+    y = y - velocity_before.ty_m * tau
     c, s = math.cos(motion.theta_rad), math.sin(motion.theta_rad)
-    near_one = 1.0 - 0.5 * small * small
-    cosine = c * near_one - s * small
-    sine = s * near_one + c * small
-    moved = np.empty_like(points)
-    moved[:, 0] = cosine * x - sine * y + (motion.tx_m + velocity_after.tx_m * tau_after)
-    moved[:, 1] = sine * x + cosine * y + (motion.ty_m + velocity_after.ty_m * tau_after)
-    return moved
+    near_one = 0.5 * small  # 1 - small^2 / 2
+    near_one *= small
+    np.subtract(1.0, near_one, out=near_one)
+    cosine = c * near_one
+    cosine -= s * small
+    sine = np.multiply(s, near_one, out=near_one)
+    sine += c * small
+    moved_x = cosine * x
+    moved_x -= sine * y
+    shift = velocity_after.tx_m * tau_after
+    shift += motion.tx_m
+    moved_x += shift
+    moved_y = np.multiply(sine, x, out=x)
+    moved_y += cosine * y
+    shift = np.multiply(velocity_after.ty_m, tau_after, out=shift)
+    shift += motion.ty_m
+    moved_y += shift
+    return moved_x, moved_y
 
 
 def _wrap_once(landing: np.ndarray, turn_beams: float, count: int) -> None:

@@ -6,6 +6,7 @@ import math
 import numpy as np
 
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion
+from pvfilter.improved.memory import nearest_first
 
 from .conftest import room_scan
 
@@ -121,3 +122,29 @@ def test_no_return_remembers_free_space():
     open_space = level.with_ranges(np.full(len(level), np.inf))
     view = view_of(remembered(open_space), level)
     assert np.isposinf(view.ranges).all()
+
+
+def written(beams, ranges, order, count):
+    """Per beam, the range and the point index written last in ``order``."""
+    values, owners = np.full(count, np.nan), np.full(count, -1)
+    values[beams[order]], owners[beams[order]] = ranges[order], order
+    return values, owners
+
+
+def test_each_beam_takes_its_nearest_point_as_a_sort_by_range_gives_it():
+    rng = np.random.default_rng(5)
+    for ring in (True, False):
+        layout = dataclasses.replace(BeamLayout.of(room_scan(noise_m=0.0)[0]), ring=ring)
+        beams = rng.integers(0 if ring else -1, 40, 300)  # many points per beam
+        ranges = rng.choice([1.0, 2.0, 3.0, 4.0], 300) + rng.uniform(0.0, 1e-3, 300)
+        tied = ranges.copy()
+        tied[:5] = tied[5:10] = 0.5  # equal nearest ranges: the sort's order decides
+        tied[beams == beams[0]] = 0.5
+        for values in (ranges, tied):
+            by_sort = np.argsort(-values)
+            by_sort = by_sort if ring else by_sort[beams[by_sort] >= 0]
+            order = nearest_first(beams, values, layout)
+            expected = written(beams, values, by_sort, layout.count)
+            mine = written(beams, values, order, layout.count)
+            np.testing.assert_array_equal(mine[0], expected[0])
+            np.testing.assert_array_equal(mine[1], expected[1])

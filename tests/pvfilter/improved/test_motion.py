@@ -1,12 +1,13 @@
 """Motion: the scan match, composing motions, a rotating scan's skew, unstretching."""
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, Motion, estimate_motion, segment_scan
-from pvfilter.improved.motion import coarse_turn, odometry_motion
+from pvfilter.improved.motion import coarse_turn, motion_of, nearer_than, odometry_motion
 from pvfilter.improved.sweep import deskew, move_scan, skew
 
 from .conftest import room_scan
@@ -133,3 +134,24 @@ def test_move_scan_is_deskew_motion_and_skew_in_one_pass():
     global_shutter = move_scan(points, np.arange(layout.count), layout, motion, (0.0, Motion()),
                                (0.0, Motion()))  # fmt: skip
     np.testing.assert_allclose(global_shutter, motion.apply(points), atol=1e-12)
+
+
+@pytest.mark.parametrize("limit", [1e-120, 1e-3, 0.25, 7.0, 1e120])
+def test_nearer_than_decides_as_hypot_does_next_to_the_limit(limit):
+    rng = np.random.default_rng(11)
+    angle = rng.uniform(-np.pi, np.pi, 5000)
+    at_limit = limit * (1.0 + rng.integers(-4, 5, 5000) * 1.1e-16)  # within ulps of it
+    x = np.concatenate((rng.normal(0.0, limit, 400), at_limit * np.cos(angle), [np.nan, np.inf]))
+    y = np.concatenate((rng.normal(0.0, limit, 400), at_limit * np.sin(angle), [1.0, np.nan]))
+    expected = np.hypot(x, y) < limit
+    np.testing.assert_array_equal(nearer_than(x, y, limit), expected)
+    if 1e-100 < limit < 1e100:  # where the squares are exact enough, they are not enough
+        assert np.count_nonzero((x * x + y * y < limit * limit) != expected) > 0
+
+
+def test_motion_of_makes_the_same_frozen_motion():
+    made, built = motion_of(0.1, -0.2, 0.3, 7, 0.01), Motion(0.1, -0.2, 0.3, 7, 0.01)
+    assert made == built and hash(made) == hash(built) and repr(made) == repr(built)
+    assert motion_of(0.1, -0.2, 0.3) == Motion(0.1, -0.2, 0.3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        made.tx_m = 1.0  # type: ignore[misc]

@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
-from pvfilter.improved.segmentation import MAX_HALF_WIDTH, chord_half_widths, local_directions
+from pvfilter.improved.segmentation import (
+    MAX_HALF_WIDTH,
+    across_travel,
+    chord_half_widths,
+    local_directions,
+)
 from pvfilter.synthetic import room_segments
 
 from .conftest import HEIGHT_M, room_scan, tilted_scan
@@ -82,3 +87,14 @@ def test_range_jumps_split_segments():
 def test_no_points_give_no_segments():
     segments = segment_scan(np.zeros((0, 2)), np.zeros(0, dtype=int), INCREMENT, ImprovedParams())
     assert len(segments) == 0
+
+
+@pytest.mark.parametrize("line_angle_deg", [0.0, 1e-7, 10.0, 40.0, 89.9, 90.0])
+def test_across_travel_decides_as_the_sine_does_next_to_the_bound(line_angle_deg):
+    bound = math.asin(math.cos(math.radians(line_angle_deg)))
+    rng = np.random.default_rng(7)
+    near = bound + np.concatenate((np.arange(-40, 41) * 1e-16, rng.normal(0.0, 1e-6, 200)))
+    directions = np.concatenate((rng.uniform(-0.5 * np.pi, 0.5 * np.pi, 500), near, -near))
+    directions = np.clip(directions, -0.5 * np.pi, 0.5 * np.pi)
+    expected = np.abs(np.sin(directions)) > np.cos(np.radians(line_angle_deg))
+    np.testing.assert_array_equal(across_travel(directions, line_angle_deg), expected)
