@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from twsb_sim.kernel import kernel
 from twsb_sim.robot import LIDAR_SITE
 
 REACH_MARGIN_M = 0.01  # m, kept in collision beyond the robot's reach (rounding, margins)
@@ -86,13 +87,28 @@ class RegionGuard:
 
     def check(self, positions_world: np.ndarray) -> None:
         """Raise :class:`LeftCollisionRegion` if any of the ``(n, 3)`` positions is outside."""
-        local = positions_world @ self._rotation
-        if (local < self._lower).any() or (local > self._upper).any():
-            outside = positions_world[((local < self._lower) | (local > self._upper)).any(1)]
+        outside = _first_outside(positions_world, self._rotation, self._lower, self._upper)
+        if outside >= 0:
             raise LeftCollisionRegion(
-                f"the LiDAR origin reached {np.round(outside[0], 3).tolist()} (m, world), "
-                f"outside the collision region {self.region}"
+                f"the LiDAR origin reached {np.round(positions_world[outside], 3).tolist()} "
+                f"(m, world), outside the collision region {self.region}"
             )
+
+
+@kernel
+def _first_outside(
+    positions: np.ndarray, rotation: np.ndarray, lower: np.ndarray, upper: np.ndarray
+) -> int:
+    """The first of the ``(n, 3)`` positions whose ``position @ rotation`` is not within
+    ``[lower, upper]``, or -1 (every physics step checks one: a compiled loop)."""
+    for i in range(len(positions)):
+        for axis in range(3):
+            local = 0.0
+            for k in range(3):
+                local += positions[i, k] * rotation[k, axis]
+            if local < lower[axis] or local > upper[axis]:
+                return i
+    return -1
 
 
 def robot_reach_m(model: mujoco.MjModel, data: mujoco.MjData) -> float:

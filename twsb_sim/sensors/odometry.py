@@ -96,14 +96,14 @@ class EncoderOdometry:
         Returns:
             ``(k, 3)`` poses (x m, y m, yaw rad in odom) and ``(k, 2)`` twists (m/s, rad/s).
         """
-        ticks = self.ticks(wheel_angles_rad)
-        if not len(ticks):
+        angles = np.asarray(wheel_angles_rad, dtype=np.float64)
+        if not len(angles):
             return np.empty((0, 3)), np.empty((0, 2))
         scale = (self.rad_per_tick or 1.0) * self.radii_m
-        previous = np.vstack((self._last_ticks, ticks[:-1]))
-        steps = (ticks - previous) * scale
-        self._last_ticks = ticks[-1].copy()
-        block = _dead_reckoning(steps, *self.pose.tolist(), self.dt_s, self.track_width_m)
+        block, self._last_ticks = _dead_reckoning(
+            angles, self._last_ticks, self.rad_per_tick, scale, *self.pose.tolist(), self.dt_s,
+            self.track_width_m,
+        )  # fmt: skip
         poses, twists = block[:, :3], block[:, 3:]
         self.pose, self.twist = block[-1, :3].copy(), block[-1, 3:].copy()
         return poses, twists
@@ -111,13 +111,30 @@ class EncoderOdometry:
 
 @kernel
 def _dead_reckoning(
-    steps: np.ndarray, x: float, y: float, yaw: float, dt: float, track: float
-) -> np.ndarray:
-    """Integrate ``(k, 2)`` wheel travels (m, left and right) from the pose ``(x, y,
-    yaw)``: ``(k, 5)`` rows of x, y, yaw, forward speed, yaw rate."""
-    out = np.empty((len(steps), 5))
-    for k in range(len(steps)):
-        left, right = steps[k, 0], steps[k, 1]
+    angles: np.ndarray,
+    last_ticks: np.ndarray,
+    rad_per_tick: float,
+    scale: np.ndarray,
+    x: float,
+    y: float,
+    yaw: float,
+    dt: float,
+    track: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Integrate ``(k, 2)`` wheel angles (rad, left and right) from the pose ``(x, y,
+    yaw)``, the encoders having last counted ``last_ticks``: ``(k, 5)`` rows of x, y,
+    yaw, forward speed, yaw rate, and the encoders' last counts. ``scale``: m per tick
+    (per rad when exact) of each wheel."""
+    out = np.empty((len(angles), 5))
+    ticks = np.empty(2)
+    previous = last_ticks.copy()
+    for k in range(len(angles)):
+        for wheel in range(2):
+            angle = angles[k, wheel]
+            ticks[wheel] = np.floor(angle / rad_per_tick) if rad_per_tick else angle
+        left = (ticks[0] - previous[0]) * scale[0]
+        right = (ticks[1] - previous[1]) * scale[1]
+        previous[:] = ticks
         distance = 0.5 * (left + right)
         turn = (right - left) / track
         # the wheels drew an arc: its chord points at the mid heading and is shorter
@@ -129,7 +146,7 @@ def _dead_reckoning(
         yaw = _remainder_tau(yaw + turn)
         out[k, 0], out[k, 1], out[k, 2] = x, y, yaw
         out[k, 3], out[k, 4] = distance / dt, turn / dt
-    return out
+    return out, previous
 
 
 @kernel

@@ -111,10 +111,10 @@ class SensorSuite:
             )
             self._next_imu += n_imu
             readings = self.imu.measure(true)
-            block = np.empty((n_imu, 10))  # arrival s, gyro, accel, roll pitch yaw
-            block[:, 0] = imu_times + self.imu_config.latency_s
-            block[:, 1:7] = readings
-            block[:, 7:] = self.filter.update(readings)
+            # arrival s, gyro, accel, roll pitch yaw
+            block = _rows(
+                imu_times, self.imu_config.latency_s, readings, self.filter.update(readings)
+            )
             self._imu.append(block)
             self._recent_imu = np.concatenate((self._recent_imu, block))
         n_odom = self._samples_due(self._next_odom, odom_period, last)
@@ -124,8 +124,7 @@ class SensorSuite:
             )
             self._next_odom += n_odom
             poses, twists = self.odometry.update(wheels)
-            block = np.empty((n_odom, 6))  # stamp s, x, y, yaw, v, w
-            block[:, 0], block[:, 1:4], block[:, 4:] = odom_times, poses, twists
+            block = _rows(odom_times, 0.0, poses, twists)  # stamp s, x, y, yaw, v, w
             self._odom.append(block)
             self._poses = np.concatenate((self._poses, block))
         drop = self.count - self.keep_rows
@@ -280,3 +279,15 @@ def _samples(
             before = rows[i, start + c]
             values[j, c] = before + a * (rows[i + 1, start + c] - before)
     return times, values
+
+
+@kernel
+def _rows(times: np.ndarray, delay: float, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """``(k, 1 + a + b)`` rows: ``times + delay``, the ``(k, a)`` then the ``(k, b)`` values."""
+    a, b = first.shape[1], second.shape[1]
+    out = np.empty((len(times), 1 + a + b))
+    for r in range(len(times)):
+        out[r, 0] = times[r] + delay
+        out[r, 1 : 1 + a] = first[r]
+        out[r, 1 + a :] = second[r]
+    return out
