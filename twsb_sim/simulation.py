@@ -23,6 +23,7 @@ from twsb_sim.control.balance import BalanceConfig, bound_control, make_balance_
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.kernel import kernel
 from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
 from twsb_sim.movers import MoverSet
@@ -55,6 +56,18 @@ class Shove:
 
     force_world_n: np.ndarray  # N, (3,)
     point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
+
+
+@kernel
+def _all_finite(first: np.ndarray, second: np.ndarray) -> bool:
+    """Whether every value of both arrays is finite."""
+    for value in first:
+        if not math.isfinite(value):
+            return False
+    for value in second:
+        if not math.isfinite(value):
+            return False
+    return True
 
 
 def build_model(
@@ -223,7 +236,7 @@ class Simulation:
         for name, index in _DIVERGENCE_INDICES:
             if counts[index]:
                 return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
-        if not np.isfinite(self._qpos).all() or not np.isfinite(self._qvel).all():
+        if not _all_finite(self._qpos, self._qvel):  # a compiled loop: checked every frame
             return "a position or velocity is not finite"
         return None
 
