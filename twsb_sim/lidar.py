@@ -41,7 +41,7 @@ import numpy as np
 
 from twsb_sim.house.surfaces import ROBOT_GEOM_GROUP, SurfaceClass, surface_classes
 from twsb_sim.labels import BeamLabel
-from twsb_sim.sensors import lidar_errors
+from twsb_sim.lidar_reading import PARAMS, read_beams
 from twsb_sim.sensors.checks import non_negative, number, within
 from twsb_sim.sensors.sweep import PoseTrack
 
@@ -231,32 +231,6 @@ class Lidar:
         self.useful = ~blocked  # bool[n]
         self._useful_idx = np.flatnonzero(self.useful)
         self._adjacent = np.diff(self._useful_idx) == 1  # neighbours in angle, for mixed pixels
-        # the useful beams as runs of consecutive beams (one or two for one blocked sector):
-        # slices copy a reading into the full scan faster than a gather by index
-        starts = np.flatnonzero(np.concatenate(([True], ~self._adjacent))).tolist()
-        ends = [*starts[1:], self._useful_idx.size]
-        runs = [  # (first beam, beam after the last, first useful, useful after the last)
-            (int(self._useful_idx[a]), int(self._useful_idx[a]) + b - a, a, b)
-            for a, b in zip(starts, ends, strict=True)
-            if b > a
-        ]
-        # the full scan as pieces, in beam order: (useful?, start, stop) of a useful-beam
-        # array or of a blocked-beam fill; one concatenate builds each full-scan array
-        self._pieces: list[tuple[bool, int, int]] = []
-        beam = 0
-        for lo, hi, a, b in runs:
-            if lo > beam:
-                self._pieces.append((False, 0, lo - beam))
-            self._pieces.append((True, a, b))
-            beam = hi
-        if beam < n:
-            self._pieces.append((False, 0, n - beam))
-        self._blocked_fill = (  # ranges, labels, geom ids, hit points of blocked beams
-            np.full(n, -np.inf),  # the leg is closer than range_min
-            np.full(n, BeamLabel.OCCLUDED, dtype=np.uint8),
-            np.full(n, -1, dtype=np.int32),
-            np.full((n, 3), np.nan),
-        )
         angles = self.angles[self._useful_idx]
         self._dirs_sensor = np.stack((np.cos(angles), np.sin(angles), np.zeros_like(angles)), -1)
         self._dirs_world = np.empty_like(self._dirs_sensor)
@@ -282,6 +256,11 @@ class Lidar:
         self._dist = np.empty(m, dtype=np.float64)
         self._normals = np.empty(3 * m, dtype=np.float64)
         self._along = np.empty(m, dtype=np.float64)  # normal . direction of each beam
+        numbers = {
+            **{name: getattr(config, name) for name in PARAMS if hasattr(config, name)},
+            "cos_grazing_start": math.cos(math.radians(config.grazing_dropout_start_deg)),
+        }
+        self._params = np.array([numbers[name] for name in PARAMS], dtype=np.float64)
 
     def scan(self, data: mujoco.MjData, rng: np.random.Generator) -> LidarReading:
         """Cast every beam at once from the site's current pose (run mj_forward first).
@@ -372,46 +351,12 @@ class Lidar:
         stamp: float,
     ) -> LidarReading:
         """Labels, errors and REP-117 encoding of the cast in ``_geom_ids``/``_dist``."""
-        cfg, m = self.config, self._useful_idx.size
-        dist = self._dist
+        m = self._useful_idx.size
         normal_draws = rng.standard_normal(m)  # fixed counts per scan
         uniforms = rng.random((_RANDOM_ROWS, m))
-        miss = (self._geom_ids < 0) | (dist > cfg.range_max_m)
-        cos_incidence = np.abs(self._along)
-        lost = lidar_errors.dropped_returns(cos_incidence, uniforms[:2], cfg)
-        no_return = miss | lost  # (a miss that is also "lost" is a miss all the same)
-        returned = ~no_return
-        geom = np.where(no_return, np.int32(-1), self._geom_ids)
-
-        # labels from the noiseless hit and the surface normal
-        labels_useful = self._label_by_geom[geom]
-        horizontal = np.abs(self._normals[2::3]) >= cfg.horizontal_normal_min_z
-        horizontal &= labels_useful == BeamLabel.STATIC
-        labels_useful[horizontal] = BeamLabel.HORIZONTAL
-
-        # reading errors perturb returns only; a return stays within [range_min, range_max]
-        readings = lidar_errors.noisy_ranges(dist, normal_draws, cfg)
-        readings = lidar_errors.mix_edges(
-            readings, dist, returned, self._adjacent, uniforms[2:, :-1], cfg
-        )
-        readings = lidar_errors.quantised(readings, cfg.range_resolution_m)
-        ranges_useful = np.minimum(np.maximum(readings, cfg.range_min_m), cfg.range_max_m)
-        ranges_useful[dist < cfg.range_min_m] = -np.inf
-        ranges_useful[no_return] = np.inf  # after -inf: a miss reports dist = -1
-
-        points_useful = origins + dirs * dist[:, None]
-        points_useful[no_return] = np.nan
-
-        fill_ranges, fill_labels, fill_geoms, fill_points = self._blocked_fill
-        ranges = self._full_scan(ranges_useful, fill_ranges)
-        labels = self._full_scan(labels_useful, fill_labels)
-        geom_ids = self._full_scan(geom, fill_geoms)
-        points = self._full_scan(points_useful, fill_points)
+        ranges, labels, points, geom_ids = read_beams(
+            self._dist, self._geom_ids, self._normals, self._along, normal_draws, uniforms,
+            self._label_by_geom, self._adjacent, origins, dirs, self._useful_idx,
+            self.num_beams, self._params,
+        )  # fmt: skip
         return LidarReading(ranges, labels, points, geom_ids, position, rotation, stamp, origins)
-
-    def _full_scan(self, useful: np.ndarray, blocked: np.ndarray) -> np.ndarray:
-        """A new all-beam array: the useful beams' values, the blocked beams' from
-        ``blocked``, in beam order (one concatenate of slices, no gather by index)."""
-        return np.concatenate(
-            [useful[a:b] if is_useful else blocked[a:b] for is_useful, a, b in self._pieces]
-        )

@@ -15,6 +15,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 import mujoco
+import numpy as np
+
+from twsb_sim.kernel import kernel
 
 MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
 ROBOT_XML = MODELS_DIR / "twsb.xml"
@@ -138,6 +141,34 @@ class BalanceState(NamedTuple):
 _new_tuple = tuple.__new__
 
 
+@kernel
+def balance_state(
+    quat: np.ndarray, qvel: np.ndarray, b: int, left: int, right: int
+) -> tuple[float, float, float, float, float, float, float, float]:
+    """The balance state as a plain tuple in the order of :class:`BalanceState`.
+
+    Args:
+        quat: the base's orientation (w, x, y, z), a view of ``qpos``.
+        qvel: the model's ``qvel``; ``b`` is the free joint's first dof (vx vy vz in
+            the world, wx wy wz in the body frame), ``left`` and ``right`` the wheels'.
+    """
+    qw, qx, qy, qz = quat[0], quat[1], quat[2], quat[3]
+    vx, vy, wy, wz = qvel[b], qvel[b + 1], qvel[b + 4], qvel[b + 5]
+    # ZYX (yaw, pitch, roll) angles of the body frame
+    sin_pitch = 2.0 * (qw * qy - qx * qz)
+    sin_pitch = 1.0 if sin_pitch > 1.0 else (-1.0 if sin_pitch < -1.0 else sin_pitch)
+    pitch = math.asin(sin_pitch)
+    yaw = math.atan2(2.0 * (qx * qy + qw * qz), 1.0 - 2.0 * (qy * qy + qz * qz))
+    roll = math.atan2(2.0 * (qy * qz + qw * qx), 1.0 - 2.0 * (qx * qx + qy * qy))
+    sin_roll = math.sin(roll)
+    cos_roll = math.cos(roll)
+    # Euler-angle rates from the body-frame angular velocity
+    pitch_rate = cos_roll * wy - sin_roll * wz
+    yaw_rate = (sin_roll * wy + cos_roll * wz) / math.cos(pitch)
+    forward_velocity = math.cos(yaw) * vx + math.sin(yaw) * vy
+    return (pitch, pitch_rate, forward_velocity, yaw, yaw_rate, roll, qvel[left], qvel[right])
+
+
 class RobotHandles:
     """Addresses of the robot's elements in a compiled model, resolved once by name.
 
@@ -178,40 +209,14 @@ class RobotHandles:
 
     def state_reader(self, data: mujoco.MjData) -> Callable[[], tuple[float, ...]]:
         """A function returning ``data``'s balance state as a plain tuple, in the order of
-        :class:`BalanceState`: what the controllers call every physics step. ``data``'s
-        arrays, the addresses and the math functions are bound once (each ``data.qpos``
-        access builds a new array object)."""
+        :class:`BalanceState`. ``data``'s arrays and the addresses are bound once (each
+        ``data.qpos`` access builds a new array object)."""
         a, b = self.qpos_adr, self.qvel_adr
-        quat, qvel_array = data.qpos[a + 3 : a + 7], data.qvel
+        quat, qvel = data.qpos[a + 3 : a + 7], data.qvel
         left, right = self.wheel_qvel_adr
-        asin, atan2, sin, cos = math.asin, math.atan2, math.sin, math.cos
 
         def read() -> tuple[float, ...]:
-            qw, qx, qy, qz = quat.tolist()
-            qvel = qvel_array.tolist()  # one conversion: cheaper than a slice and two .item()
-            vx, vy, _, _, wy, wz = qvel[b : b + 6]
-            # ZYX (yaw, pitch, roll) angles of the body frame
-            sin_pitch = 2.0 * (qw * qy - qx * qz)
-            sin_pitch = 1.0 if sin_pitch > 1.0 else (-1.0 if sin_pitch < -1.0 else sin_pitch)
-            pitch = asin(sin_pitch)
-            yaw = atan2(2.0 * (qx * qy + qw * qz), 1.0 - 2.0 * (qy * qy + qz * qz))
-            roll = atan2(2.0 * (qy * qz + qw * qx), 1.0 - 2.0 * (qx * qx + qy * qy))
-            sin_roll = sin(roll)
-            cos_roll = cos(roll)
-            # Euler-angle rates from the body-frame angular velocity
-            pitch_rate = cos_roll * wy - sin_roll * wz
-            yaw_rate = (sin_roll * wy + cos_roll * wz) / cos(pitch)
-            forward_velocity = cos(yaw) * vx + sin(yaw) * vy
-            return (
-                pitch,
-                pitch_rate,
-                forward_velocity,
-                yaw,
-                yaw_rate,
-                roll,
-                qvel[left],
-                qvel[right],
-            )
+            return balance_state(quat, qvel, b, left, right)
 
         return read
 

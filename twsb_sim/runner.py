@@ -18,6 +18,7 @@ import numpy as np
 from tqdm import tqdm
 
 from pvfilter import ScanFilter
+from twsb_sim.collision_region import CollisionRegion
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.control.gains import UnstableClosedLoopError
 from twsb_sim.environment import check_rooms, house_extras, movers
@@ -100,9 +101,11 @@ def start_pose(
     return pose.x_m, pose.y_m, pose.yaw_rad
 
 
-def simulation_for(scenario: Scenario, seed: int) -> Simulation:
+def simulation_for(
+    scenario: Scenario, seed: int, collision_region: CollisionRegion | None = None
+) -> Simulation:
     """Build the house, robot, controller, LiDAR, sensors and movers of a scenario, robot
-    at its start."""
+    at its start (``collision_region``: see :class:`~twsb_sim.simulation.Simulation`)."""
     house, mover_set, start = scenario_world(scenario)
     try:
         sim = Simulation(
@@ -118,6 +121,7 @@ def simulation_for(scenario: Scenario, seed: int) -> Simulation:
             movers=mover_set,
             balance=scenario.balance,
             start=start,
+            collision_region=collision_region,
         )
     except UnstableClosedLoopError as error:
         raise ConfigError(scenario.source, "controller", str(error)) from None
@@ -130,6 +134,7 @@ def run_scenario(
     scan_filter: ScanFilter | FrameFilter | None = None,
     sinks: Sequence[FrameSink] = (),
     progress: bool = False,
+    collision_region: CollisionRegion | None = None,
 ) -> RunSummary:
     """Simulate ``scenario`` and hand every frame to the filter and the sinks.
 
@@ -144,12 +149,15 @@ def run_scenario(
             :class:`twsb_sim.frame_filter.FrameFilter` (given its robot inputs), or None.
         sinks: consumers of the frames (see :mod:`twsb_sim.sinks`).
         progress: show a progress bar over simulated time.
+        collision_region: where the robot will stay: a cheaper physics step, the same
+            frames; the run raises :class:`~twsb_sim.collision_region.LeftCollisionRegion`
+            if the robot leaves it (see :class:`~twsb_sim.simulation.Simulation`).
 
     Returns:
         The run's summary.
     """
     seed = scenario.seed if seed is None else seed
-    sim = simulation_for(scenario, seed)
+    sim = simulation_for(scenario, seed, collision_region)
     summary = RunSummary(scenario=scenario.name, seed=seed, house=sim.house.name)
     if scan_filter is not None:
         scan_filter = as_frame_filter(scan_filter)

@@ -18,14 +18,22 @@ import mujoco
 import numpy as np
 
 from pvfilter import Scan
+from twsb_sim.collision_region import CollisionRegion, RegionGuard, confine_collisions
 from twsb_sim.control.balance import BalanceConfig, bound_control, make_balance_controller
 from twsb_sim.control.lqr import LqrConfig
 from twsb_sim.frame import Frame, RobotTruth
 from twsb_sim.house import House, SpawnPose, add_house_to_spec
+from twsb_sim.kernel import kernel
 from twsb_sim.level_view import LevelView
 from twsb_sim.lidar import Lidar, LidarConfig
 from twsb_sim.movers import MoverSet
-from twsb_sim.robot import RobotConfig, RobotHandles, load_robot_spec, set_pose
+from twsb_sim.robot import (
+    LIDAR_POSE_SENSORS,
+    RobotConfig,
+    RobotHandles,
+    load_robot_spec,
+    set_pose,
+)
 from twsb_sim.sensors import (
     AttitudeFilterConfig,
     ImuConfig,
@@ -50,14 +58,46 @@ class Shove:
     point_body_m: np.ndarray  # m, (3,), body frame (origin at the axle)
 
 
-def build_model(house: House, robot: RobotConfig, movers: MoverSet | None = None) -> mujoco.MjModel:
-    """Compile the robot into the house, with the movers (people, doors, ...) if any."""
+@kernel
+def _all_finite(first: np.ndarray, second: np.ndarray) -> bool:
+    """Whether every value of both arrays is finite."""
+    for value in first:
+        if not math.isfinite(value):
+            return False
+    for value in second:
+        if not math.isfinite(value):
+            return False
+    return True
+
+
+def build_model(
+    house: House,
+    robot: RobotConfig,
+    movers: MoverSet | None = None,
+    collision_region: CollisionRegion | None = None,
+) -> mujoco.MjModel:
+    """Compile the robot into the house, with the movers (people, doors, ...) if any.
+
+    With a ``collision_region``, the house's geoms the robot cannot reach from it are
+    compiled without contacts (:func:`~twsb_sim.collision_region.confine_collisions`).
+    """
+    return _build(house, robot, movers, collision_region)[0]
+
+
+def _build(
+    house: House,
+    robot: RobotConfig,
+    movers: MoverSet | None,
+    collision_region: CollisionRegion | None,
+) -> tuple[mujoco.MjModel, list[str]]:
+    """The compiled model, and the geoms taken out of collision for the region."""
     spec = load_robot_spec(robot)
     add_house_to_spec(spec, house)
     if movers:
         movers.add_to_spec(spec)
     skip_static_geom_poses(spec)
-    return spec.compile()
+    confined = confine_collisions(spec, collision_region) if collision_region else []
+    return spec.compile(), confined
 
 
 def skip_static_geom_poses(spec: mujoco.MjSpec) -> None:
@@ -92,6 +132,13 @@ class Simulation:
         balance: the balance controller (the LQR by default) and its stop brake.
         start: where the robot starts, a spawn pose or ``(x_m, y_m, yaw_rad)`` (default:
             the house's first spawn pose).
+        collision_region: where the LiDAR origin will stay for the whole run: the house's
+            geoms the robot cannot reach from there are compiled without contacts, a
+            cheaper physics step with the same trajectory (:mod:`twsb_sim.collision_region`);
+            every step then checks that the robot is still inside, and raises
+            :class:`~twsb_sim.collision_region.LeftCollisionRegion` when it is not (the
+            run must be done again without a region). Ignored when a body other than
+            the robot moves and collides (free furniture).
     """
 
     def __init__(
@@ -108,11 +155,14 @@ class Simulation:
         movers: MoverSet | None = None,
         balance: BalanceConfig | None = None,
         start: SpawnPose | tuple[float, float, float] | None = None,
+        collision_region: CollisionRegion | None = None,
     ) -> None:
         self.house = house
         self.robot_config = robot
         self.movers = movers if movers is not None else MoverSet()
-        self.model = build_model(house, robot, self.movers)
+        self.model, confined = _build(house, robot, self.movers, collision_region)
+        # the geoms out of collision hold only while the robot stays in the region
+        self.region_guard = RegionGuard(collision_region) if confined else None
         self.movers.bind(self.model)
         self.data = mujoco.MjData(self.model)
         # views into data, made once (reset keeps its buffers): checked at every breakpoint
@@ -123,6 +173,8 @@ class Simulation:
         self.sensors = SensorSuite(
             self.model, self.handles, imu, attitude, odometry, self.lidar.scan_time
         )
+        adr = int(self.model.sensor(LIDAR_POSE_SENSORS[0]).adr[0])
+        self._lidar_position_cols = slice(adr, adr + 3)  # of the sensor rows
         self.level_view = LevelView(self.model, self.lidar)  # labels on ramps and slopes
         self.controller = make_balance_controller(self.model, robot, controller, balance)
         self.fall_pitch_rad = math.radians(fall_pitch_deg)
@@ -151,6 +203,8 @@ class Simulation:
         lidar_seed, sensors_seed = np.random.SeedSequence(self._seed).spawn(2)
         self.noise_rng = np.random.default_rng(lidar_seed)
         self.sensors.reset(self.data, sensors_seed)
+        if self.region_guard is not None:
+            self.region_guard.check(self.data.site_xpos[self.handles.lidar_site_id][None, :])
         self.command = (0.0, 0.0)
         self.max_abs_pitch_rad = 0.0  # over every physics step since reset
         self._shove: Shove | None = None
@@ -182,7 +236,7 @@ class Simulation:
         for name, index in _DIVERGENCE_INDICES:
             if counts[index]:
                 return f"MuJoCo met a NaN, infinity or huge value ({name}) and reset the state"
-        if not np.isfinite(self._qpos).all() or not np.isfinite(self._qvel).all():
+        if not _all_finite(self._qpos, self._qvel):  # a compiled loop: checked every frame
             return "a position or velocity is not finite"
         return None
 
@@ -222,6 +276,7 @@ class Simulation:
         v = w = 0.0
         sensors, sensordata = self.sensors, data.sensordata
         rows, n, capacity = sensors.rows, sensors.count, len(sensors.rows)
+        first = n  # the rows of these steps, checked against the collision region
         for v, w in zip(velocities_mps.tolist(), yaw_rates_rad_s.tolist(), strict=True):
             control(v, w)
             pitch = controller.last_pitch_rad
@@ -231,12 +286,14 @@ class Simulation:
                 self._apply_shove(shove)
             step(model, data)
             if n == capacity:
+                self._check_region(first, n)
                 sensors.count = n
                 sensors.flush_full()
-                n = sensors.count
+                n = first = sensors.count
             rows[n] = sensordata  # the state at the start of this step (see SensorSuite)
             n += 1
         sensors.count = n
+        self._check_region(first, n)
         self.max_abs_pitch_rad = max_pitch
         if len(velocities_mps):
             self.command = (v, w)
@@ -247,15 +304,26 @@ class Simulation:
         self.data.ctrl[list(self.handles.actuator_ids)] = np.clip(torques_nm, -limit, limit)
         read = self.handles.read_balance_state  # no controller reads the pitch here
         sensors = self.sensors
+        first = sensors.count  # the rows of these steps, checked against the collision region
         for _ in range(n_steps):
             if self._shove is not None:
                 self._apply_shove(self._shove)
             mujoco.mj_step(self.model, self.data)
             if sensors.count == len(sensors.rows):
+                self._check_region(first, sensors.count)
                 sensors.flush_full()
+                first = sensors.count
             sensors.rows[sensors.count] = self.data.sensordata
             sensors.count += 1
             self.max_abs_pitch_rad = max(self.max_abs_pitch_rad, abs(read(self.data).pitch_rad))
+        self._check_region(first, sensors.count)
+
+    def _check_region(self, first: int, stop: int) -> None:
+        """Raise if the LiDAR origin of sensor rows ``first`` to ``stop`` (the physics
+        steps just taken, each at the state its contacts were found in) left the collision
+        region."""
+        if self.region_guard is not None and stop > first:
+            self.region_guard.check(self.sensors.rows[first:stop, self._lidar_position_cols])
 
     def set_shove(self, shove: Shove | None) -> None:
         """Start (or, with None, end) an external push on the body."""
@@ -292,6 +360,8 @@ class Simulation:
         # recompute them so the scan, the IMU and the truth describe the same instant
         self.movers.pose(self.data, self.time_s)
         mujoco.mj_forward(self.model, self.data)
+        if self.region_guard is not None:  # this state's contacts give the IMU's truth
+            self.region_guard.check(self.data.site_xpos[self.handles.lidar_site_id][None, :])
         now = self.time_s
         lidar = self.lidar
         self.sensors.sync()

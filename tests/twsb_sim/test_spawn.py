@@ -1,5 +1,5 @@
-"""The spawn search: its pruned slab test gives what testing every box gives, to the bit,
-and a house searches its spawn poses only when they are asked for."""
+"""The spawn search: its compiled, pruned slab test gives what testing every box with numpy
+gives, to the bit, and a house searches its spawn poses only when they are asked for."""
 
 from __future__ import annotations
 
@@ -41,9 +41,8 @@ def test_pruned_box_clearance_equals_testing_every_box(house):
         rng.uniform(-math.pi, math.pi, 1000),
     ])  # fmt: skip
     reference = np.minimum(_every_box(obstacles, xy, yaw, 0.25), MAX_CLEARANCE_M)
-    heading = np.stack((np.cos(yaw), np.sin(yaw)), -1)
-    pruned = np.minimum(obstacles._box_clearance(xy, heading, 0.25), MAX_CLEARANCE_M)
-    assert pruned.tobytes() == reference.tobytes()
+    obstacles.discs = np.zeros((0, 3))  # the boxes alone
+    assert obstacles.clearance_m(xy, yaw, 0.25).tobytes() == reference.tobytes()
     assert np.isfinite(reference).sum() > 1000  # most rays do meet a box
 
 
@@ -55,3 +54,17 @@ def test_spawn_poses_are_searched_on_first_use_and_see_blocking_extras():
     assert "spawn_poses" in house.__dict__  # searched once, then kept
     stairs = make_house("basement")  # its staircase blocks the robot
     assert stairs.spawn_poses != plain_house("basement").spawn_poses
+
+
+def test_a_disc_is_reached_where_the_two_circles_first_touch():
+    obstacles = Obstacles([])
+    obstacles.discs = np.array([[3.0, 0.5, 0.2]])  # a table leg 3 m ahead, 0.5 m to the left
+    xy = np.zeros((3, 2))
+    clear = obstacles.clearance_m(xy, np.array([0.0, math.pi, math.pi / 2]), 0.25)
+    # |(t, 0) - (3, 0.5)| = 0.45: t = 3 - sqrt(0.45^2 - 0.5^2) has no root, so it misses
+    assert clear[0] == MAX_CLEARANCE_M and clear[1] == MAX_CLEARANCE_M
+    assert clear[2] == MAX_CLEARANCE_M  # to the left, it passes 3 m short of the leg
+    near = obstacles.clearance_m(np.array([[0.0, 0.3]]), np.array([0.0]), 0.25)
+    assert near[0] == pytest.approx(3.0 - math.sqrt(0.45**2 - 0.2**2), abs=1e-12)
+    inside = obstacles.clearance_m(np.array([[2.9, 0.5]]), np.array([math.pi]), 0.25)
+    assert inside[0] == 0.0  # already touching: no room at all

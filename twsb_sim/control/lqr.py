@@ -2,9 +2,9 @@
 
 The gains come from :func:`twsb_sim.control.gains.compute_gains`, designed on the
 linearization of the MJCF model itself (see :mod:`twsb_sim.control.linearization`).
-:meth:`LqrController.apply` runs every physics step, so it reads the state through
-pre-resolved addresses and does scalar arithmetic only; the physics loop calls the
-function :meth:`LqrController.bind` returns, with everything looked up once.
+:meth:`LqrController.apply` runs every physics step: the state is read and the torques
+computed in one compiled function (:mod:`twsb_sim.kernel`), which the function
+:meth:`LqrController.bind` returns calls with everything looked up once.
 """
 
 from __future__ import annotations
@@ -12,9 +12,11 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import mujoco
+import numpy as np
 
 from twsb_sim.control.gains import LqrConfig, compute_gains
-from twsb_sim.robot import RobotConfig, RobotHandles
+from twsb_sim.kernel import kernel
+from twsb_sim.robot import RobotConfig, RobotHandles, balance_state
 
 
 class LqrController:
@@ -66,13 +68,15 @@ class LqrController:
         self._limit = handles.torque_limit_nm
         self._left_id, self._right_id = handles.actuator_ids
         self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
+        self._integrals = np.zeros(2)
         self.reset()
 
     def reset(self) -> None:
         """Forget the integrated tracking errors (a new run)."""
         self.last_pitch_rad = 0.0  # rad, pitch read by the latest apply()
-        self.velocity_error_integral_m = 0.0  # m
-        self.yaw_rate_error_integral_rad = 0.0  # rad
+        # m and rad: the integrated velocity and yaw-rate errors, which the compiled
+        # control function updates in place
+        self._integrals[:] = 0.0
 
     def apply(
         self,
@@ -106,37 +110,73 @@ class LqrController:
     def _control_function(
         self, data: mujoco.MjData
     ) -> Callable[[float, float], tuple[float, float]]:
-        read, ctrl = self.handles.state_reader(data), data.ctrl
+        h = self.handles
+        quat, qvel, ctrl = data.qpos[h.qpos_adr + 3 : h.qpos_adr + 7], data.qvel, data.ctrl
+        addresses = np.array([h.qvel_adr, *h.wheel_qvel_adr, self._left_id, self._right_id])
         (k0, k1, k2, k3), (ky0, ky1) = self._k, self._k_yaw
-        ff_velocity, ff_yaw_rate = self._ff_velocity, self._ff_yaw_rate
-        dt, limit, left_id, right_id = self._dt, self._limit, self._left_id, self._right_id
+        gains = np.array(
+            [k0, k1, k2, k3, ky0, ky1, self._ff_velocity, self._ff_yaw_rate, self._dt, self._limit]
+        )
+        integrals, torques = self._integrals, _lqr_torques
 
         def control(
             velocity_command_mps: float, yaw_rate_command_rad_s: float
         ) -> tuple[float, float]:
-            pitch, pitch_rate, forward_velocity, _, yaw_rate, _, _, _ = read()
-            self.last_pitch_rad = pitch  # the loop tracks the peak pitch without re-reading
-            velocity_error = forward_velocity - velocity_command_mps
-            yaw_rate_error = yaw_rate - yaw_rate_command_rad_s
-            common = ff_velocity * velocity_command_mps - (
-                k0 * pitch
-                + k1 * pitch_rate
-                + k2 * velocity_error
-                + k3 * self.velocity_error_integral_m
-            )
-            differential = ff_yaw_rate * yaw_rate_command_rad_s - (
-                ky0 * yaw_rate_error + ky1 * self.yaw_rate_error_integral_rad
-            )
-            left = common - differential
-            right = common + differential
-            if -limit < left < limit and -limit < right < limit:
-                self.velocity_error_integral_m += dt * velocity_error
-                self.yaw_rate_error_integral_rad += dt * yaw_rate_error
-            else:
-                left = limit if left > limit else (-limit if left < -limit else left)
-                right = limit if right > limit else (-limit if right < -limit else right)
-            ctrl[left_id] = left
-            ctrl[right_id] = right
+            left, right, self.last_pitch_rad = torques(
+                quat, qvel, ctrl, addresses, gains, integrals,
+                velocity_command_mps, yaw_rate_command_rad_s,
+            )  # fmt: skip
             return left, right
 
         return control
+
+
+@kernel
+def _lqr_torques(
+    quat: np.ndarray,
+    qvel: np.ndarray,
+    ctrl: np.ndarray,
+    addresses: np.ndarray,
+    gains: np.ndarray,
+    integrals: np.ndarray,
+    velocity_command_mps: float,
+    yaw_rate_command_rad_s: float,
+) -> tuple[float, float, float]:
+    """One step of the LQR: write the wheel torques to ``ctrl``, update ``integrals``.
+
+    Args:
+        quat, qvel, ctrl: the base's orientation (a view of ``qpos``), ``qvel``, ``ctrl``.
+        addresses: the free joint's first dof, the wheels' dofs, the two motors' ids.
+        gains: k0..k3 (pitch, pitch rate, velocity error, its integral), the yaw-rate
+            error's and its integral's, the two feed-forwards, dt (s), the limit (N·m).
+        integrals: the integrated velocity error (m) and yaw-rate error (rad).
+
+    Returns:
+        The left and right torques (N·m, saturated) and the pitch read (rad).
+    """
+    b, left_dof, right_dof, left_id, right_id = (
+        addresses[0], addresses[1], addresses[2], addresses[3], addresses[4]
+    )  # fmt: skip
+    state = balance_state(quat, qvel, b, left_dof, right_dof)
+    pitch, pitch_rate, forward_velocity, yaw_rate = state[0], state[1], state[2], state[4]
+    k0, k1, k2, k3, ky0, ky1 = gains[0], gains[1], gains[2], gains[3], gains[4], gains[5]
+    ff_velocity, ff_yaw_rate, dt, limit = gains[6], gains[7], gains[8], gains[9]
+    velocity_error = forward_velocity - velocity_command_mps
+    yaw_rate_error = yaw_rate - yaw_rate_command_rad_s
+    common = ff_velocity * velocity_command_mps - (
+        k0 * pitch + k1 * pitch_rate + k2 * velocity_error + k3 * integrals[0]
+    )
+    differential = ff_yaw_rate * yaw_rate_command_rad_s - (
+        ky0 * yaw_rate_error + ky1 * integrals[1]
+    )
+    left = common - differential
+    right = common + differential
+    if -limit < left < limit and -limit < right < limit:
+        integrals[0] += dt * velocity_error
+        integrals[1] += dt * yaw_rate_error
+    else:
+        left = limit if left > limit else (-limit if left < -limit else left)
+        right = limit if right > limit else (-limit if right < -limit else right)
+    ctrl[left_id] = left
+    ctrl[right_id] = right
+    return left, right, pitch

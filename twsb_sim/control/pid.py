@@ -4,16 +4,18 @@ The outer loop turns the velocity error into a lean (``pitch_ref``, clipped); th
 loop drives the wheels under the body to reach it (a PD on pitch). It is softer than the
 LQR (its gains are hand-set, not designed on the model), so the robot pitches more for
 the same disturbance and recovers more slowly. Like :class:`~twsb_sim.control.lqr.
-LqrController` it runs every physics step on scalars, and its integrators pause while a
-motor saturates.
+LqrController` it runs every physics step as one compiled function
+(:mod:`twsb_sim.kernel`), and its integrators pause while a motor saturates.
 """
 
 from __future__ import annotations
 
 import mujoco
+import numpy as np
 
 from twsb_sim.control.balance import BalanceConfig, ControlFunction
-from twsb_sim.robot import RobotHandles
+from twsb_sim.kernel import kernel
+from twsb_sim.robot import RobotHandles, balance_state
 
 
 class PidController:
@@ -31,13 +33,15 @@ class PidController:
         self._left_id, self._right_id = self.handles.actuator_ids
         self._dt = float(model.opt.timestep)
         self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
+        self._integrals = np.zeros(2)
         self.reset()
 
     def reset(self) -> None:
         """Forget the integrated errors."""
         self.last_pitch_rad = 0.0
-        self.velocity_error_integral_m = 0.0  # m
-        self.yaw_rate_error_integral_rad = 0.0  # rad
+        # m and rad: the integrated velocity and yaw-rate errors, which the compiled
+        # control function updates in place
+        self._integrals[:] = 0.0
 
     def apply(
         self,
@@ -56,36 +60,72 @@ class PidController:
         return self._control
 
     def _control_function(self, data: mujoco.MjData) -> ControlFunction:
-        c, read, ctrl = self.config, self.handles.state_reader(data), data.ctrl
-        kv, ki, max_lean = c.pid_kv_rad_s_per_m, c.pid_ki_rad_per_m, c.pid_max_lean_rad
-        kp, kd, kw, kwi = (
-            c.pid_kp_nm_per_rad,
-            c.pid_kd_nm_s_per_rad,
-            c.pid_kw_nm_s_per_rad,
-            c.pid_kwi_nm_per_rad,
-        )
-        dt, limit, left_id, right_id = self._dt, self._limit, self._left_id, self._right_id
+        c, h = self.config, self.handles
+        quat, qvel, ctrl = data.qpos[h.qpos_adr + 3 : h.qpos_adr + 7], data.qvel, data.ctrl
+        addresses = np.array([h.qvel_adr, *h.wheel_qvel_adr, self._left_id, self._right_id])
+        gains = np.array(
+            [
+                c.pid_kv_rad_s_per_m, c.pid_ki_rad_per_m, c.pid_max_lean_rad,
+                c.pid_kp_nm_per_rad, c.pid_kd_nm_s_per_rad, c.pid_kw_nm_s_per_rad,
+                c.pid_kwi_nm_per_rad, self._dt, self._limit,
+            ]
+        )  # fmt: skip
+        integrals, torques = self._integrals, _pid_torques
 
         def control(
             velocity_command_mps: float, yaw_rate_command_rad_s: float
         ) -> tuple[float, float]:
-            pitch, pitch_rate, forward_velocity, _, yaw_rate, _, _, _ = read()
-            self.last_pitch_rad = pitch
-            velocity_error = velocity_command_mps - forward_velocity
-            yaw_rate_error = yaw_rate_command_rad_s - yaw_rate
-            lean = kv * velocity_error + ki * self.velocity_error_integral_m
-            lean = max(-max_lean, min(max_lean, lean))
-            common = kp * (pitch - lean) + kd * pitch_rate
-            differential = kw * yaw_rate_error + kwi * self.yaw_rate_error_integral_rad
-            left, right = common - differential, common + differential
-            if -limit < left < limit and -limit < right < limit:
-                self.velocity_error_integral_m += dt * velocity_error
-                self.yaw_rate_error_integral_rad += dt * yaw_rate_error
-            else:
-                left = max(-limit, min(limit, left))
-                right = max(-limit, min(limit, right))
-            ctrl[left_id] = left
-            ctrl[right_id] = right
+            left, right, self.last_pitch_rad = torques(
+                quat, qvel, ctrl, addresses, gains, integrals,
+                velocity_command_mps, yaw_rate_command_rad_s,
+            )  # fmt: skip
             return left, right
 
         return control
+
+
+@kernel
+def _pid_torques(
+    quat: np.ndarray,
+    qvel: np.ndarray,
+    ctrl: np.ndarray,
+    addresses: np.ndarray,
+    gains: np.ndarray,
+    integrals: np.ndarray,
+    velocity_command_mps: float,
+    yaw_rate_command_rad_s: float,
+) -> tuple[float, float, float]:
+    """One step of the cascaded PID: write the wheel torques to ``ctrl``, update
+    ``integrals`` (velocity error, m; yaw-rate error, rad).
+
+    ``addresses``: the free joint's first dof, the wheels' dofs, the two motors' ids;
+    ``gains``: kv, ki, the lean limit, kp, kd, kw, kwi, dt (s), the torque limit (N·m).
+    Returns the left and right torques (N·m, saturated) and the pitch read (rad).
+    """
+    b, left_dof, right_dof, left_id, right_id = (
+        addresses[0], addresses[1], addresses[2], addresses[3], addresses[4]
+    )  # fmt: skip
+    state = balance_state(quat, qvel, b, left_dof, right_dof)
+    pitch, pitch_rate, forward_velocity, yaw_rate = state[0], state[1], state[2], state[4]
+    kv, ki, max_lean, kp, kd = gains[0], gains[1], gains[2], gains[3], gains[4]
+    kw, kwi, dt, limit = gains[5], gains[6], gains[7], gains[8]
+    velocity_error = velocity_command_mps - forward_velocity
+    yaw_rate_error = yaw_rate_command_rad_s - yaw_rate
+    lean = kv * velocity_error + ki * integrals[0]
+    # max(-max_lean, min(max_lean, lean)) as Python's min and max pick among equals
+    lean = lean if lean < max_lean else max_lean
+    lean = lean if lean > -max_lean else -max_lean
+    common = kp * (pitch - lean) + kd * pitch_rate
+    differential = kw * yaw_rate_error + kwi * integrals[1]
+    left, right = common - differential, common + differential
+    if -limit < left < limit and -limit < right < limit:
+        integrals[0] += dt * velocity_error
+        integrals[1] += dt * yaw_rate_error
+    else:
+        left = left if left < limit else limit
+        left = left if left > -limit else -limit
+        right = right if right < limit else limit
+        right = right if right > -limit else -limit
+    ctrl[left_id] = left
+    ctrl[right_id] = right
+    return left, right, pitch

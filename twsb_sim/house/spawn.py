@@ -16,6 +16,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from twsb_sim.house.model import Part, Room, SpawnPose
+from twsb_sim.kernel import kernel
 
 ROBOT_RADIUS_M = 0.25  # footprint radius of the robot (m)
 OBSTACLE_TOP_M = 1.5  # parts whose bottom is lower than this block the robot (m)
@@ -25,7 +26,6 @@ MAX_CLEARANCE_M = 50.0  # clearances are capped here (m)
 MIN_REVERSE_M = 0.3  # a "lane start" pose keeps at least this much room behind (m)
 YAWS = np.array([0.0, math.pi / 2, math.pi, -math.pi / 2])  # rad, the start headings tried
 PRUNE_MARGIN_M = 1e-6  # m, bounding circles grown by this: far above rounding, never prunes a hit
-RAY_BLOCK = 512  # rays tested at a time: the (ray, obstacle) arrays stay in the CPU's cache
 
 
 class Obstacles:
@@ -48,84 +48,112 @@ class Obstacles:
             -1, 3
         )
 
-    def _box_frames(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Points in every box's frame (N, M, 2), and the boxes' cos/sin of yaw (M,)."""
-        c, s = np.cos(self.boxes[:, 4]), np.sin(self.boxes[:, 4])
-        rel = xy[:, None, :] - self.boxes[None, :, :2]
-        local = np.stack(
-            (c * rel[..., 0] + s * rel[..., 1], -s * rel[..., 0] + c * rel[..., 1]), -1
-        )
-        return local, c, s
-
     def is_free(self, xy: np.ndarray, radius_m: float) -> np.ndarray:
         """Whether a disc of ``radius_m`` centred at each point (N, 2) touches nothing."""
-        local, _, _ = self._box_frames(xy)
-        within = np.abs(local) < self.boxes[None, :, 2:4] + radius_m
-        inside_box = within[..., 0] & within[..., 1]  # cheaper than np.all along an axis of 2
-        gap = np.linalg.norm(xy[:, None, :] - self.discs[None, :, :2], axis=-1)
-        inside_disc = gap < self.discs[None, :, 2] + radius_m
-        return ~(inside_box.any(axis=1) | inside_disc.any(axis=1))
+        yaw = self.boxes[:, 4]
+        return _free(
+            np.asarray(xy, dtype=np.float64).reshape(-1, 2), self.boxes, np.cos(yaw),
+            np.sin(yaw), self.discs, radius_m,
+        )  # fmt: skip
 
     def clearance_m(self, xy: np.ndarray, yaw_rad: np.ndarray, radius_m: float) -> np.ndarray:
         """How far a disc of ``radius_m`` at each point (N, 2) can move along its heading
         (N,) before touching an obstacle (m, a lower bound, 0 if it already touches)."""
         heading = np.stack((np.cos(yaw_rad), np.sin(yaw_rad)), -1)
-        # in blocks of rays: each ray's result is its own, and a few thousand rays at once
-        # make (ray, obstacle) arrays of megabytes that are slower to fill than to compute
-        blocks = [
-            self._clearance_m(xy[i : i + RAY_BLOCK], heading[i : i + RAY_BLOCK], radius_m)
-            for i in range(0, len(xy), RAY_BLOCK)
-        ]
-        return np.concatenate(blocks) if blocks else np.zeros(0)
+        half = self.boxes[:, 2:4] + radius_m  # the boxes inflated by the radius
+        reach = np.hypot(half[:, 0], half[:, 1]) + PRUNE_MARGIN_M  # their bounding circles
+        yaw = self.boxes[:, 4]
+        return _clearances(
+            np.asarray(xy, dtype=np.float64), heading, self.boxes, half, np.cos(yaw),
+            np.sin(yaw), reach, self.discs, radius_m,
+        )  # fmt: skip
 
-    def _clearance_m(self, xy: np.ndarray, heading: np.ndarray, radius_m: float) -> np.ndarray:
-        """:meth:`clearance_m` of points (N, 2) along unit headings (N, 2)."""
-        box_t = self._box_clearance(xy, heading, radius_m)
+
+@kernel
+def _clearances(
+    xy: np.ndarray,
+    heading: np.ndarray,
+    boxes: np.ndarray,
+    half: np.ndarray,
+    cos_yaw: np.ndarray,
+    sin_yaw: np.ndarray,
+    reach: np.ndarray,
+    discs: np.ndarray,
+    radius_m: float,
+) -> np.ndarray:
+    """:meth:`Obstacles.clearance_m` of points (N, 2) along unit headings (N, 2).
+
+    Per ray, the slab test against every box inflated to ``half`` (the first t >= 0 on
+    the ray inside one), skipping the boxes whose bounding circle (``reach``) the ray
+    passes by or has left behind, about nine in ten in a house; then the first t >= 0
+    at which the disc touches each obstacle disc. Capped at ``MAX_CLEARANCE_M``.
+    """
+    out = np.empty(len(xy))
+    for r in range(len(xy)):
+        px, py, hx, hy = xy[r, 0], xy[r, 1], heading[r, 0], heading[r, 1]
+        box_t = np.inf
+        for m in range(len(boxes)):
+            to_x, to_y = boxes[m, 0] - px, boxes[m, 1] - py
+            if not (abs(to_y * hx - to_x * hy) <= reach[m] and to_x * hx + to_y * hy >= -reach[m]):
+                continue
+            c, s = cos_yaw[m], sin_yaw[m]
+            rel_x, rel_y = px - boxes[m, 0], py - boxes[m, 1]
+            local_x, local_y = c * rel_x + s * rel_y, -s * rel_x + c * rel_y
+            d_x, d_y = c * hx + s * hy, -s * hx + c * hy
+            d_x = 1e-12 if abs(d_x) < 1e-12 else d_x
+            d_y = 1e-12 if abs(d_y) < 1e-12 else d_y
+            t1_x, t2_x = (-half[m, 0] - local_x) / d_x, (half[m, 0] - local_x) / d_x
+            t1_y, t2_y = (-half[m, 1] - local_y) / d_y, (half[m, 1] - local_y) / d_y
+            t_near = np.maximum(np.minimum(t1_x, t2_x), np.minimum(t1_y, t2_y))
+            t_far = np.minimum(np.maximum(t1_x, t2_x), np.maximum(t1_y, t2_y))
+            if t_near <= t_far and t_far >= 0:
+                box_t = np.minimum(box_t, np.maximum(t_near, 0.0))
         # disc-disc: solve |p + t d - c| = r_c + radius for the first t >= 0
-        rel = xy[:, None, :] - self.discs[None, :, :2]
-        b = np.einsum("nmk,nk->nm", rel, heading)
-        cc = np.einsum("nmk,nmk->nm", rel, rel) - (self.discs[None, :, 2] + radius_m) ** 2
-        disc = b**2 - cc
-        root = -b - np.sqrt(np.maximum(disc, 0))
-        disc_t = np.where(cc <= 0, 0.0, np.where((disc >= 0) & (root >= 0), root, np.inf))
-        nearest = np.minimum(box_t, disc_t.min(axis=1, initial=np.inf))
-        return np.minimum(nearest, MAX_CLEARANCE_M)
+        disc_t = np.inf
+        for m in range(len(discs)):
+            rel_x, rel_y = px - discs[m, 0], py - discs[m, 1]
+            b = rel_x * hx + rel_y * hy
+            grown = discs[m, 2] + radius_m
+            cc = (rel_x * rel_x + rel_y * rel_y) - grown * grown
+            disc = b * b - cc
+            root = -b - np.sqrt(np.maximum(disc, 0.0))
+            if cc <= 0:
+                disc_t = np.minimum(disc_t, 0.0)
+            elif disc >= 0 and root >= 0:
+                disc_t = np.minimum(disc_t, root)
+        out[r] = np.minimum(np.minimum(box_t, disc_t), MAX_CLEARANCE_M)
+    return out
 
-    def _box_clearance(self, xy: np.ndarray, heading: np.ndarray, radius_m: float) -> np.ndarray:
-        """The slab test of each point (N, 2) and unit heading (N, 2) against every box
-        inflated by ``radius_m``: the first t >= 0 on the ray inside one (m, inf if none).
 
-        Only the (point, box) pairs whose ray passes within the box's bounding circle
-        are tested, about a tenth of them in a house: a third of the time of testing all
-        (each pair's arithmetic is the same, so are the results).
-        """
-        n = len(xy)
-        half = self.boxes[:, 2:4] + radius_m  # (M, 2)
-        # x and y as (N, M) arrays of their own: the same numbers, without the slow
-        # strided passes over an (N, M, 2) array
-        to_x = self.boxes[None, :, 0] - xy[:, None, 0]
-        to_y = self.boxes[None, :, 1] - xy[:, None, 1]
-        hx, hy = heading[:, None, 0], heading[:, None, 1]
-        along = to_x * hx + to_y * hy
-        across = to_y * hx - to_x * hy
-        reach = np.hypot(half[:, 0], half[:, 1]) + PRUNE_MARGIN_M  # bounding circles (M,)
-        ni, mi = np.nonzero((np.abs(across) <= reach) & (along >= -reach))
-        c, s = np.cos(self.boxes[:, 4]), np.sin(self.boxes[:, 4])
-        c, s = c[mi], s[mi]
-        rel = xy[ni] - self.boxes[mi, :2]
-        local = np.stack((c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1]), -1)
-        h = heading[ni]
-        d_local = np.stack((c * h[:, 0] + s * h[:, 1], -s * h[:, 0] + c * h[:, 1]), -1)
-        d_local = np.where(np.abs(d_local) < 1e-12, 1e-12, d_local)
-        t1, t2 = (-half[mi] - local) / d_local, (half[mi] - local) / d_local
-        near, far = np.minimum(t1, t2), np.maximum(t1, t2)
-        # the larger (smaller) of two columns: a reduction along an axis of 2 costs more
-        t_near = np.maximum(near[:, 0], near[:, 1])
-        t_far = np.minimum(far[:, 0], far[:, 1])
-        hit = np.where((t_near <= t_far) & (t_far >= 0), np.maximum(t_near, 0), np.inf)
-        nearest = np.full(n, np.inf)
-        np.minimum.at(nearest, ni, hit)
-        return nearest
+@kernel
+def _free(
+    xy: np.ndarray,
+    boxes: np.ndarray,
+    cos_yaw: np.ndarray,
+    sin_yaw: np.ndarray,
+    discs: np.ndarray,
+    radius_m: float,
+) -> np.ndarray:
+    """:meth:`Obstacles.is_free` of points (N, 2): outside every box inflated by the
+    radius (tested in the box's frame) and every disc grown by it."""
+    free = np.ones(len(xy), np.bool_)
+    for r in range(len(xy)):
+        px, py = xy[r, 0], xy[r, 1]
+        for m in range(len(boxes)):
+            rel_x, rel_y = px - boxes[m, 0], py - boxes[m, 1]
+            c, s = cos_yaw[m], sin_yaw[m]
+            inside_x = abs(c * rel_x + s * rel_y) < boxes[m, 2] + radius_m
+            if inside_x and abs(-s * rel_x + c * rel_y) < boxes[m, 3] + radius_m:
+                free[r] = False
+                break
+        if not free[r]:
+            continue
+        for m in range(len(discs)):
+            gap_x, gap_y = px - discs[m, 0], py - discs[m, 1]
+            if np.sqrt(gap_x * gap_x + gap_y * gap_y) < discs[m, 2] + radius_m:
+                free[r] = False
+                break
+    return free
 
 
 def find_spawn_poses(

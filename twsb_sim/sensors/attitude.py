@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from twsb_sim.kernel import kernel
 from twsb_sim.sensors.checks import positive
 
 
@@ -67,25 +68,42 @@ class ComplementaryFilter:
         a, dt = self.gain, self.dt_s
         ax, ay, az = readings[:, 3], readings[:, 4], readings[:, 5]
         b = 1.0 - a
-        roll_pull = (b * np.arctan2(ay, az)).tolist()  # gravity's direction, all at once
-        pitch_pull = (b * np.arctan2(-ax, np.hypot(ay, az))).tolist()
+        roll_pull = b * np.arctan2(ay, az)  # gravity's direction, all at once (numpy's
+        pitch_pull = b * np.arctan2(-ax, np.hypot(ay, az))  # arctan2, as it always was)
         if self.rpy_rad is None:
-            roll, pitch, yaw = roll_pull[0] / b, pitch_pull[0] / b, 0.0
+            start = (roll_pull[0] / b, pitch_pull[0] / b, 0.0)
         else:
-            roll, pitch, yaw = self.rpy_rad
-        sin, cos, tau, pi = math.sin, math.cos, math.tau, math.pi
-        out = []  # plain floats: this loop runs at the IMU rate
-        for (wx, wy, wz), roll_in, pitch_in in zip(
-            readings[:, :3].tolist(), roll_pull, pitch_pull, strict=True
-        ):
-            sr, cr, cp = sin(roll), cos(roll), cos(pitch)
-            turn = sr * wy + cr * wz
-            roll = a * (roll + (wx + turn * sin(pitch) / cp) * dt) + roll_in
-            pitch = a * (pitch + (cr * wy - sr * wz) * dt) + pitch_in
-            yaw += turn / cp * dt
-            out.append((roll, pitch, (yaw + pi) % tau - pi))
-        self.rpy_rad = out[-1]
-        return np.array(out)
+            start = self.rpy_rad
+        out = _integrate(np.asarray(readings[:, :3]), roll_pull, pitch_pull, *start, a, dt)
+        self.rpy_rad = tuple(out[-1].tolist())
+        return out
+
+
+@kernel
+def _integrate(
+    gyro: np.ndarray,
+    roll_pull: np.ndarray,
+    pitch_pull: np.ndarray,
+    roll: float,
+    pitch: float,
+    yaw: float,
+    gain: float,
+    dt: float,
+) -> np.ndarray:
+    """The filter over ``k`` samples from ``(roll, pitch, yaw)``: ``(k, 3)`` estimates.
+
+    ``roll_pull`` and ``pitch_pull`` are ``(1 - gain)`` times the accelerometer's angles.
+    """
+    out = np.empty((len(gyro), 3))
+    for k in range(len(gyro)):
+        wx, wy, wz = gyro[k, 0], gyro[k, 1], gyro[k, 2]
+        sr, cr, cp = math.sin(roll), math.cos(roll), math.cos(pitch)
+        turn = sr * wy + cr * wz
+        roll = gain * (roll + (wx + turn * math.sin(pitch) / cp) * dt) + roll_pull[k]
+        pitch = gain * (pitch + (cr * wy - sr * wz) * dt) + pitch_pull[k]
+        yaw += turn / cp * dt
+        out[k, 0], out[k, 1], out[k, 2] = roll, pitch, (yaw + math.pi) % math.tau - math.pi
+    return out
 
 
 def quat_from_rpy(roll_rad: float, pitch_rad: float, yaw_rad: float) -> np.ndarray:

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from twsb_sim.kernel import kernel
 from twsb_sim.sensors.checks import non_negative, positive, within
 
 STANDARD_GRAVITY_MPS2 = 9.80665  # m/s²
@@ -105,7 +106,6 @@ class ImuModel:
             [c.gyro_noise_density_rad_s_sqrt_hz, c.accel_noise_density_mps2_sqrt_hz], 3
         ) * math.sqrt(c.rate_hz)
         self._range = np.repeat([c.gyro_range_rad_s, c.accel_range_mps2], 3)
-        self._negative_range = -self._range
 
     def measure(self, true_gyro_accel: np.ndarray) -> np.ndarray:
         """The IMU's readings of ``k`` consecutive samples.
@@ -117,11 +117,34 @@ class ImuModel:
         Returns:
             ``(k, 6)`` readings: gyro x y z (rad/s), accel x y z (m/s²).
         """
-        k = len(true_gyro_accel)
-        draws = self.rng.standard_normal((k, 12))
-        walk = self.bias_walk + np.cumsum(draws[:, :6] * self._walk_std, axis=0)
-        if k:
-            self.bias_walk = walk[-1].copy()
-        readings = true_gyro_accel + self.offset + walk + draws[:, 6:] * self._white_std
-        # np.minimum/np.maximum: np.clip's wrapper costs more than the clipping here
-        return np.minimum(np.maximum(readings, self._negative_range), self._range)
+        draws = self.rng.standard_normal((len(true_gyro_accel), 12))
+        return _measure(
+            np.asarray(true_gyro_accel, dtype=np.float64), draws, self.offset, self.bias_walk,
+            self._walk_std, self._white_std, self._range,
+        )  # fmt: skip
+
+
+@kernel
+def _measure(
+    true: np.ndarray,
+    draws: np.ndarray,
+    offset: np.ndarray,
+    bias_walk: np.ndarray,
+    walk_std: np.ndarray,
+    white_std: np.ndarray,
+    saturation: np.ndarray,
+) -> np.ndarray:
+    """Readings of ``k`` samples (see :meth:`ImuModel.measure`); ``bias_walk`` is carried
+    on in place. ``draws``: ``(k, 12)`` N(0, 1), six for the walk, six white."""
+    out = np.empty_like(true)
+    walk = np.zeros(6)  # the walk since this batch began
+    for r in range(len(true)):
+        for c in range(6):
+            walk[c] += draws[r, c] * walk_std[c]
+            white = draws[r, 6 + c] * white_std[c]
+            reading = true[r, c] + offset[c] + (bias_walk[c] + walk[c]) + white
+            out[r, c] = np.minimum(np.maximum(reading, -saturation[c]), saturation[c])
+    if len(true):
+        for c in range(6):
+            bias_walk[c] += walk[c]
+    return out

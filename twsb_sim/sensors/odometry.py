@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from twsb_sim.kernel import kernel
 from twsb_sim.sensors.checks import within
 
 
@@ -95,30 +96,69 @@ class EncoderOdometry:
         Returns:
             ``(k, 3)`` poses (x m, y m, yaw rad in odom) and ``(k, 2)`` twists (m/s, rad/s).
         """
-        ticks = self.ticks(wheel_angles_rad)
-        k = len(ticks)
-        if not k:
+        angles = np.asarray(wheel_angles_rad, dtype=np.float64)
+        if not len(angles):
             return np.empty((0, 3)), np.empty((0, 2))
         scale = (self.rad_per_tick or 1.0) * self.radii_m
-        previous = np.vstack((self._last_ticks, ticks[:-1]))
-        steps = ((ticks - previous) * scale).tolist()
-        self._last_ticks = ticks[-1].copy()
-        out = []
-        x, y, yaw = self.pose.tolist()
-        dt, track = self.dt_s, self.track_width_m
-        sin, cos, tau = math.sin, math.cos, math.tau
-        for left, right in steps:  # plain floats: a few updates per call
-            distance = 0.5 * (left + right)
-            turn = (right - left) / track
-            # the wheels drew an arc: its chord points at the mid heading and is shorter
-            # than the arc by sin(turn / 2) / (turn / 2)
-            heading, half = yaw + 0.5 * turn, 0.5 * turn
-            chord = distance * (sin(half) / half if abs(half) > 1e-9 else 1.0)
-            x += chord * cos(heading)
-            y += chord * sin(heading)
-            yaw = math.remainder(yaw + turn, tau)
-            out.append((x, y, yaw, distance / dt, turn / dt))
-        block = np.array(out)
+        block, self._last_ticks = _dead_reckoning(
+            angles, self._last_ticks, self.rad_per_tick, scale, *self.pose.tolist(), self.dt_s,
+            self.track_width_m,
+        )  # fmt: skip
         poses, twists = block[:, :3], block[:, 3:]
         self.pose, self.twist = block[-1, :3].copy(), block[-1, 3:].copy()
         return poses, twists
+
+
+@kernel
+def _dead_reckoning(
+    angles: np.ndarray,
+    last_ticks: np.ndarray,
+    rad_per_tick: float,
+    scale: np.ndarray,
+    x: float,
+    y: float,
+    yaw: float,
+    dt: float,
+    track: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Integrate ``(k, 2)`` wheel angles (rad, left and right) from the pose ``(x, y,
+    yaw)``, the encoders having last counted ``last_ticks``: ``(k, 5)`` rows of x, y,
+    yaw, forward speed, yaw rate, and the encoders' last counts. ``scale``: m per tick
+    (per rad when exact) of each wheel."""
+    out = np.empty((len(angles), 5))
+    ticks = np.empty(2)
+    previous = last_ticks.copy()
+    for k in range(len(angles)):
+        for wheel in range(2):
+            angle = angles[k, wheel]
+            ticks[wheel] = np.floor(angle / rad_per_tick) if rad_per_tick else angle
+        left = (ticks[0] - previous[0]) * scale[0]
+        right = (ticks[1] - previous[1]) * scale[1]
+        previous[:] = ticks
+        distance = 0.5 * (left + right)
+        turn = (right - left) / track
+        # the wheels drew an arc: its chord points at the mid heading and is shorter
+        # than the arc by sin(turn / 2) / (turn / 2)
+        heading, half = yaw + 0.5 * turn, 0.5 * turn
+        chord = distance * (math.sin(half) / half if abs(half) > 1e-9 else 1.0)
+        x += chord * math.cos(heading)
+        y += chord * math.sin(heading)
+        yaw = _remainder_tau(yaw + turn)
+        out[k, 0], out[k, 1], out[k, 2] = x, y, yaw
+        out[k, 3], out[k, 4] = distance / dt, turn / dt
+    return out, previous
+
+
+@kernel
+def _remainder_tau(angle: float) -> float:
+    """``math.remainder(angle, tau)``, the IEEE remainder (exact): ``angle`` minus the
+    nearest multiple of 2 pi, ties to the even multiple."""
+    modulus = np.fmod(abs(angle), math.tau)  # exact
+    complement = math.tau - modulus  # exact wherever it decides the result
+    if modulus < complement:
+        rest = modulus
+    elif modulus > complement:
+        rest = -complement
+    else:  # half-way: the even multiple
+        rest = modulus - 2.0 * np.fmod(0.5 * (abs(angle) - modulus), math.tau)
+    return math.copysign(1.0, angle) * rest

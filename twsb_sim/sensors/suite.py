@@ -17,6 +17,7 @@ import math
 import mujoco
 import numpy as np
 
+from twsb_sim.kernel import kernel
 from twsb_sim.robot import ENCODER_SENSORS, IMU_SENSORS, LIDAR_POSE_SENSORS, RobotHandles
 from twsb_sim.sensors.attitude import AttitudeFilterConfig, ComplementaryFilter
 from twsb_sim.sensors.imu import STANDARD_GRAVITY_MPS2, ImuConfig, ImuModel
@@ -103,24 +104,27 @@ class SensorSuite:
             return
         last = self.t_first + (self.count - 1) * self.dt_s
         imu_period, odom_period = 1.0 / self.imu_config.rate_hz, 1.0 / self.odometry_config.rate_hz
-        imu_times = self._sample_times(self._next_imu, imu_period, last)
-        if len(imu_times):
-            self._next_imu += len(imu_times)
-            true = self._interpolate(imu_times, self._imu_cols, self._imu_on_steps)
+        n_imu = self._samples_due(self._next_imu, imu_period, last)
+        if n_imu:
+            imu_times, true = self._samples(
+                self._next_imu, n_imu, imu_period, self._imu_cols, self._imu_on_steps
+            )
+            self._next_imu += n_imu
             readings = self.imu.measure(true)
-            block = np.empty((len(imu_times), 10))  # arrival s, gyro, accel, roll pitch yaw
-            block[:, 0] = imu_times + self.imu_config.latency_s
-            block[:, 1:7] = readings
-            block[:, 7:] = self.filter.update(readings)
+            # arrival s, gyro, accel, roll pitch yaw
+            block = _rows(
+                imu_times, self.imu_config.latency_s, readings, self.filter.update(readings)
+            )
             self._imu.append(block)
             self._recent_imu = np.concatenate((self._recent_imu, block))
-        odom_times = self._sample_times(self._next_odom, odom_period, last)
-        if len(odom_times):
-            self._next_odom += len(odom_times)
-            wheels = self._interpolate(odom_times, self._wheel_cols, self._odom_on_steps)
+        n_odom = self._samples_due(self._next_odom, odom_period, last)
+        if n_odom:
+            odom_times, wheels = self._samples(
+                self._next_odom, n_odom, odom_period, self._wheel_cols, self._odom_on_steps
+            )
+            self._next_odom += n_odom
             poses, twists = self.odometry.update(wheels)
-            block = np.empty((len(odom_times), 6))  # stamp s, x, y, yaw, v, w
-            block[:, 0], block[:, 1:4], block[:, 4:] = odom_times, poses, twists
+            block = _rows(odom_times, 0.0, poses, twists)  # stamp s, x, y, yaw, v, w
             self._odom.append(block)
             self._poses = np.concatenate((self._poses, block))
         drop = self.count - self.keep_rows
@@ -129,25 +133,21 @@ class SensorSuite:
             self.count = self.keep_rows
             self.t_first += drop * self.dt_s
 
-    def _sample_times(self, next_index: int, period: float, last: float) -> np.ndarray:
-        """The times of the samples ``next_index, ...`` taken no later than ``last``."""
+    def _samples_due(self, next_index: int, period: float, last: float) -> int:
+        """How many samples, from number ``next_index`` on, were taken by ``last``."""
         stop = math.floor((last - self.t0) / period + _EPS) + 1
-        return self.t0 + np.arange(next_index, max(stop, next_index)) * period
+        return max(stop, next_index) - next_index
 
-    def _interpolate(self, times: np.ndarray, columns: slice, on_steps: bool) -> np.ndarray:
-        """The recorded columns at ``times`` (within the recorded span), linearly;
-        ``on_steps``: every time is a physics step's (the rate divides the physics')."""
-        if self.count == 1:
-            return np.repeat(self.rows[:1, columns], len(times), axis=0)
-        position = (times - self.t_first) / self.dt_s
-        if on_steps:  # a rate that divides the physics': the samples are recorded rows
-            return self.rows[np.rint(position).astype(np.intp), columns]
-        # np.minimum/np.maximum: np.clip's wrapper costs more than the clipping here
-        i = np.minimum(np.maximum(np.floor(position + _EPS).astype(np.intp), 0), self.count - 2)
-        a = np.minimum(np.maximum(position - i, 0.0), 1.0)[:, None]
-        block = self.rows[:, columns]
-        before = block[i]
-        return before + a * (block[i + 1] - before)
+    def _samples(
+        self, first: int, n: int, period: float, columns: slice, on_steps: bool
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The times of samples ``first`` to ``first + n - 1`` and the recorded columns
+        at them (within the recorded span), linearly interpolated; ``on_steps``: every
+        sample falls on a physics step (the rate divides the physics'), whose row it takes."""
+        return _samples(
+            self.rows, self.count, self.t_first, self.dt_s, self.t0, period, first, n,
+            columns.start, columns.stop, on_steps,
+        )  # fmt: skip
 
     # -- what consumers get ----------------------------------------------------------------
 
@@ -243,3 +243,51 @@ class SensorSuite:
         if arrived:
             return self._recent_imu[arrived - 1, 1:7].copy()
         return np.array([0.0, 0.0, 0.0, 0.0, 0.0, STANDARD_GRAVITY_MPS2])
+
+
+@kernel
+def _samples(
+    rows: np.ndarray,
+    count: int,
+    t_first: float,
+    dt: float,
+    t0: float,
+    period: float,
+    first: int,
+    n: int,
+    start: int,
+    stop: int,
+    on_steps: bool,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sample times ``t0 + (first + j) period`` and ``rows[:count, start:stop]`` at them
+    (rows ``dt`` apart from ``t_first``), linearly interpolated, or the nearest row when
+    every sample falls on a row (``on_steps``)."""
+    times = np.empty(n)
+    values = np.empty((n, stop - start))
+    for j in range(n):
+        times[j] = t0 + float(first + j) * period
+        if count == 1:
+            values[j] = rows[0, start:stop]
+            continue
+        position = (times[j] - t_first) / dt
+        if on_steps:
+            values[j] = rows[int(np.rint(position)), start:stop]
+            continue
+        i = min(max(int(np.floor(position + _EPS)), 0), count - 2)
+        a = np.minimum(np.maximum(position - i, 0.0), 1.0)
+        for c in range(stop - start):
+            before = rows[i, start + c]
+            values[j, c] = before + a * (rows[i + 1, start + c] - before)
+    return times, values
+
+
+@kernel
+def _rows(times: np.ndarray, delay: float, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """``(k, 1 + a + b)`` rows: ``times + delay``, the ``(k, a)`` then the ``(k, b)`` values."""
+    a, b = first.shape[1], second.shape[1]
+    out = np.empty((len(times), 1 + a + b))
+    for r in range(len(times)):
+        out[r, 0] = times[r] + delay
+        out[r, 1 : 1 + a] = first[r]
+        out[r, 1 + a :] = second[r]
+    return out

@@ -17,27 +17,60 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# the rotation matrix's first two columns from a unit quaternion (w, x, y, z): x axis
-# (1 - 2(yy + zz), 2(xy + wz), 2(xz - wy)), y axis (2(xy - wz), 1 - 2(xx + zz), 2(yz + wx));
-# all six as 2 (a + sign b) from the outer product q q' (flat index 4 i + j of q_i q_j)
-_A = [10, 6, 7, 6, 5, 11]  # yy xy xz xy xx yz
-_B = [15, 3, 2, 3, 15, 1]  # zz wz wy wz zz wx
-_SIGN = np.array([1.0, 1.0, -1.0, -1.0, 1.0, 1.0])
+from twsb_sim.kernel import kernel
 
 
 def poses_from_quats(positions: np.ndarray, quats_wxyz: np.ndarray) -> np.ndarray:
     """``(k, 9)`` rows: position, x axis, y axis of positions ``(k, 3)`` and unit
     quaternions ``(k, 4)`` (w, x, y, z)."""
     q = np.asarray(quats_wxyz, dtype=np.float64).reshape(-1, 4)
-    products = (q[:, :, None] * q[:, None, :]).reshape(-1, 16)  # one call, not 18
-    out = np.empty((len(q), 9))
-    out[:, :3] = positions
-    axes = out[:, 3:]
-    np.multiply(products.take(_B, axis=1), _SIGN, out=axes)
-    axes += products.take(_A, axis=1)  # a + (-b) is a - b exactly
-    axes *= 2.0
-    np.subtract(1.0, axes[:, ::4], out=axes[:, ::4])  # the two diagonal terms
+    return _poses(np.asarray(positions, dtype=np.float64), q)
+
+
+@kernel
+def _poses(positions: np.ndarray, quats: np.ndarray) -> np.ndarray:
+    """The rotation matrix's first two columns from a unit quaternion (w, x, y, z): x axis
+    (1 - 2(yy + zz), 2(xy + wz), 2(xz - wy)), y axis (2(xy - wz), 1 - 2(xx + zz),
+    2(yz + wx)), each sum taken as (second product) + (first) as numpy added them."""
+    out = np.empty((len(quats), 9))
+    for r in range(len(quats)):
+        w, x, y, z = quats[r, 0], quats[r, 1], quats[r, 2], quats[r, 3]
+        out[r, 0], out[r, 1], out[r, 2] = positions[r, 0], positions[r, 1], positions[r, 2]
+        out[r, 3] = 1.0 - (z * z + y * y) * 2.0
+        out[r, 4] = (w * z + x * y) * 2.0
+        out[r, 5] = (-(w * y) + x * z) * 2.0
+        out[r, 6] = (-(w * z) + x * y) * 2.0
+        out[r, 7] = 1.0 - (z * z + x * x) * 2.0
+        out[r, 8] = (w * x + y * z) * 2.0
     return out
+
+
+@kernel
+def _beams(
+    poses: np.ndarray, t_first_s: float, dt_s: float, times_s: np.ndarray, dirs_sensor: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Each beam's origin and unit direction in the world (see :meth:`PoseTrack.beams`)."""
+    last = len(poses) - 1
+    top = max(last - 1, 0)
+    origins, dirs = np.empty((len(times_s), 3)), np.empty((len(times_s), 3))
+    pose = np.empty(9)
+    for b in range(len(times_s)):
+        where = (times_s[b] - t_first_s) / dt_s
+        where = min(max(where, 0.0), float(last))  # held constant outside the span
+        j = min(int(where), top)
+        a = where - j
+        after = j + 1 if last else j
+        for k in range(9):
+            pose[k] = poses[j, k] + a * (poses[after, k] - poses[j, k])
+        # a beam in the x-y plane needs only the sensor's x and y axes: d = c x + s y
+        c, s = dirs_sensor[b, 0], dirs_sensor[b, 1]
+        d0 = c * pose[3] + s * pose[6]
+        d1 = c * pose[4] + s * pose[7]
+        d2 = c * pose[5] + s * pose[8]
+        norm = math.sqrt((d0 * d0 + d2 * d2) + d1 * d1)
+        dirs[b, 0], dirs[b, 1], dirs[b, 2] = d0 / norm, d1 / norm, d2 / norm
+        origins[b, 0], origins[b, 1], origins[b, 2] = pose[0], pose[1], pose[2]
+    return origins, dirs
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,18 +101,6 @@ class PoseTrack:
         """A track from positions and orientations as unit quaternions (w, x, y, z)."""
         return cls(t_first_s, dt_s, poses_from_quats(positions, quats_wxyz))
 
-    def _lerp(self, times_s: np.ndarray) -> np.ndarray:
-        """``(k, 9)`` poses at each time (axes not renormalised)."""
-        last = len(self.poses) - 1
-        where = (np.asarray(times_s, float) - self.t_first_s) / self.dt_s
-        where = np.minimum(np.maximum(where, 0.0), last)  # cheaper than np.clip's wrapper
-        j = np.minimum(where.astype(np.intp), max(last - 1, 0))
-        before = self.poses.take(j, axis=0)
-        # the pose's change over each step, gathered: one gather and one subtraction of
-        # (k, 9) fewer than gathering the pose after the step too
-        steps = self.poses[1:] - self.poses[:-1] if last else self.poses - self.poses
-        return before + (where - j)[:, None] * steps.take(j, axis=0)
-
     def at(self, time_s: float) -> tuple[np.ndarray, np.ndarray]:
         """Position ``(3,)`` and sensor-to-world rotation matrix ``(3, 3)`` at ``time_s``."""
         last = len(self.poses) - 1
@@ -103,8 +124,5 @@ class PoseTrack:
             times_s: ``(k,)`` when each beam was measured, s.
             dirs_sensor: ``(k, 3)`` unit beam directions in the sensor's x-y plane.
         """
-        poses = self._lerp(times_s)
-        # a beam in the x-y plane needs only the sensor's x and y axes: d = c x + s y
-        dirs = dirs_sensor[:, :1] * poses[:, 3:6] + dirs_sensor[:, 1:2] * poses[:, 6:9]
-        dirs /= np.sqrt(np.einsum("ki,ki->k", dirs, dirs))[:, None]
-        return poses[:, :3], dirs
+        times = np.asarray(times_s, dtype=np.float64)
+        return _beams(self.poses, self.t_first_s, self.dt_s, times, dirs_sensor)
