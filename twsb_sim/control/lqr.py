@@ -14,6 +14,7 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
+from twsb_sim.control.compiled import compiled_control
 from twsb_sim.control.gains import LqrConfig, compute_gains
 from twsb_sim.kernel import kernel
 from twsb_sim.robot import RobotConfig, RobotHandles, balance_state
@@ -66,7 +67,6 @@ class LqrController:
         self._ff_yaw_rate = self.gains.yaw_rate_feedforward
         self._dt = self.gains.dt
         self._limit = handles.torque_limit_nm
-        self._left_id, self._right_id = handles.actuator_ids
         self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
         self._integrals = np.zeros(2)
         self.reset()
@@ -110,25 +110,11 @@ class LqrController:
     def _control_function(
         self, data: mujoco.MjData
     ) -> Callable[[float, float], tuple[float, float]]:
-        h = self.handles
-        quat, qvel, ctrl = data.qpos[h.qpos_adr + 3 : h.qpos_adr + 7], data.qvel, data.ctrl
-        addresses = np.array([h.qvel_adr, *h.wheel_qvel_adr, self._left_id, self._right_id])
         (k0, k1, k2, k3), (ky0, ky1) = self._k, self._k_yaw
         gains = np.array(
             [k0, k1, k2, k3, ky0, ky1, self._ff_velocity, self._ff_yaw_rate, self._dt, self._limit]
         )
-        integrals, torques = self._integrals, _lqr_torques
-
-        def control(
-            velocity_command_mps: float, yaw_rate_command_rad_s: float
-        ) -> tuple[float, float]:
-            left, right, self.last_pitch_rad = torques(
-                quat, qvel, ctrl, addresses, gains, integrals,
-                velocity_command_mps, yaw_rate_command_rad_s,
-            )  # fmt: skip
-            return left, right
-
-        return control
+        return compiled_control(self, data, self.handles, _lqr_torques, gains, self._integrals)
 
 
 @kernel

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from twsb_sim.control.balance import BalanceConfig, ControlFunction
+from twsb_sim.control.compiled import compiled_control
 from twsb_sim.kernel import kernel
 from twsb_sim.robot import RobotHandles, balance_state
 
@@ -30,7 +31,6 @@ class PidController:
         self.handles = RobotHandles(model)
         self.config = config
         self._limit = self.handles.torque_limit_nm
-        self._left_id, self._right_id = self.handles.actuator_ids
         self._dt = float(model.opt.timestep)
         self._bound_data: mujoco.MjData | None = None  # the data self._control is bound to
         self._integrals = np.zeros(2)
@@ -60,9 +60,7 @@ class PidController:
         return self._control
 
     def _control_function(self, data: mujoco.MjData) -> ControlFunction:
-        c, h = self.config, self.handles
-        quat, qvel, ctrl = data.qpos[h.qpos_adr + 3 : h.qpos_adr + 7], data.qvel, data.ctrl
-        addresses = np.array([h.qvel_adr, *h.wheel_qvel_adr, self._left_id, self._right_id])
+        c = self.config
         gains = np.array(
             [
                 c.pid_kv_rad_s_per_m, c.pid_ki_rad_per_m, c.pid_max_lean_rad,
@@ -70,18 +68,7 @@ class PidController:
                 c.pid_kwi_nm_per_rad, self._dt, self._limit,
             ]
         )  # fmt: skip
-        integrals, torques = self._integrals, _pid_torques
-
-        def control(
-            velocity_command_mps: float, yaw_rate_command_rad_s: float
-        ) -> tuple[float, float]:
-            left, right, self.last_pitch_rad = torques(
-                quat, qvel, ctrl, addresses, gains, integrals,
-                velocity_command_mps, yaw_rate_command_rad_s,
-            )  # fmt: skip
-            return left, right
-
-        return control
+        return compiled_control(self, data, self.handles, _pid_torques, gains, self._integrals)
 
 
 @kernel
