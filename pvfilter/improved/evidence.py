@@ -204,7 +204,15 @@ class RecentScans:
     def moved(self, step: Motion) -> tuple[np.ndarray, Motion] | None:
         """Take the sensor's step to the scan now; the oldest kept scan's ranges and the
         motion from it to now (None: none kept)."""
+        self.advance(step)
+        return self.oldest()
+
+    def advance(self, step: Motion) -> None:
+        """Take the sensor's step to the scan now."""
         self.pose = self.pose.then(step)
+
+    def oldest(self) -> tuple[np.ndarray, Motion] | None:
+        """The oldest kept scan's ranges and the motion from it to now (None: none kept)."""
         if not self.scans:
             return None
         _, ranges, pose = self.scans[0]

@@ -222,13 +222,16 @@ class ImprovedPitchVariationFilter:
         view = self._memory.view(
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
-        earlier = self._recent.moved(step)
+        self._recent.advance(step)
         if coast:  # the motion is the prior's: nothing is compared
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
+        # only lines with new returns are scored, and only scored lines are tested: a scan
+        # with no new return (most) has no use for the test
+        earlier = self._recent.oldest() if np.count_nonzero(new) else None
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier
