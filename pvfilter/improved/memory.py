@@ -51,20 +51,30 @@ class LevelView:
         ages: s since a level return last confirmed the beam.
         ahead_s: s for which the beam's returns have been in front of the view.
         farther_s: s for which the beam's level returns have been beyond the view.
+        block: the four as the rows of one ``(4, n)`` array, when they are (the memory
+            makes them so: moving, gathering or filling a beam's four values is then one
+            numpy call instead of four); None otherwise.
     """
 
     ranges: np.ndarray
     ages: np.ndarray
     ahead_s: np.ndarray
     farther_s: np.ndarray
+    block: np.ndarray | None = dataclasses.field(default=None, repr=False)
+
+    @classmethod
+    def of_block(cls, block: np.ndarray) -> LevelView:
+        """The view whose ranges, ages, ahead and farther clocks are the rows of ``block``."""
+        return cls(block[0], block[1], block[2], block[3], block)
 
     @classmethod
     def empty(cls, n: int) -> LevelView:
         """A view that knows nothing, of ``n`` beams."""
-        ranges, ages = np.empty(n), np.empty(n)  # np.full costs a Python-level call each
-        ranges.fill(np.nan)
-        ages.fill(np.inf)
-        return cls(ranges, ages, np.zeros(n), np.zeros(n))
+        block = np.empty((4, n))  # np.full costs a Python-level call
+        block[0].fill(np.nan)
+        block[1].fill(np.inf)
+        block[2:].fill(0.0)
+        return cls.of_block(block)
 
 
 class LevelMemory:
@@ -114,9 +124,12 @@ class LevelMemory:
         target = beams.take(order)
         view = LevelView.empty(layout.count)
         view.ranges[target] = ranges.take(order)
-        for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
-            mine[target] = theirs.take(order)
-        view.farther_s[target] = state.farther_s.take(order)
+        if state.block is not None:  # the three clocks in one gather and one write
+            view.block[1:, target] = state.block[1:].take(order, axis=1)
+        else:
+            for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
+                mine[target] = theirs.take(order)
+            view.farther_s[target] = state.farther_s.take(order)
         _fill_single_holes(view)
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -151,11 +164,14 @@ class LevelMemory:
         self.time_increment = time_increment
         valid = ~np.isnan(ranges)
         if view is None:  # the first scan of a sequence: all it has
-            level_ranges = np.where(no_return, np.inf, ranges)
-            seen = np.where(valid | no_return, 0.0, np.inf)
-            self.state = LevelView(level_ranges, seen, np.zeros(len(ranges)), np.zeros(len(ranges)))
+            state = LevelView.empty(len(ranges))
+            np.copyto(state.ranges, np.where(no_return, np.inf, ranges))
+            np.copyto(state.ages, np.where(valid | no_return, 0.0, np.inf))
+            self.state = state
             return
-        current = view.ranges.copy()
+        state = LevelView.of_block(np.empty((4, len(ranges))))  # every row is written below
+        current = state.ranges
+        np.copyto(current, view.ranges)
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
@@ -164,19 +180,28 @@ class LevelMemory:
         in_front = ranges < floor  # NaN (invalid) compares False
         # in front of the view this long: the clocks are finite and >= 0 (sums of time
         # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
-        ahead = view.ahead_s + dt
+        ahead, ages, farther = state.ahead_s, state.ages, state.farther_s
+        if level and view.block is not None:  # the three clocks advance in one call
+            np.add(view.block[1:], dt, out=state.block[1:])
+        elif level:
+            np.add(view.ahead_s, dt, out=ahead)
+            np.add(view.ages, dt, out=ages)
+            np.add(view.farther_s, dt, out=farther)
+        else:  # a tilted plane: the view only moves, and its clock stands still
+            np.add(view.ahead_s, dt, out=ahead)
+            np.copyto(ages, view.ages)
+            np.copyto(farther, view.farther_s)
         ahead *= in_front
         settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0
-        if not level:  # a tilted plane: the view only moves, and its clock stands still
+        if not level:
             if settled.size:
                 current[settled] = ranges.take(settled)
-            self.state = LevelView(current, view.ages, ahead, view.farther_s)
+            self.state = state
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = (ranges > current + margin) | (no_return & (current != np.inf))
-        farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
@@ -186,10 +211,9 @@ class LevelMemory:
         if settled.size:
             current[settled] = ranges.take(settled)
         current[no_return & take] = np.inf
-        ages = view.ages + dt
         ages[valid | no_return] = 0.0
         farther[take] = 0.0
-        self.state = LevelView(current, ages, ahead, farther)
+        self.state = state
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -236,5 +260,8 @@ def _fill_single_holes(view: LevelView) -> None:
     fill = indices(~np.isnan(level.take(source)))
     if fill.size < hole.size:
         hole, source = hole.take(fill), source.take(fill)
+    if view.block is not None:  # the four values of a beam in one gather and one write
+        view.block[:, hole] = view.block.take(source, axis=1)
+        return
     for values in (level, view.ages, view.ahead_s, view.farther_s):
         values[hole] = values.take(source)
