@@ -130,8 +130,11 @@ class BeamLayout:
     def shifted(self, values: np.ndarray, shift: int) -> np.ndarray:
         """``values`` per beam moved by ``shift`` beams (element ``i`` to ``i + shift``).
 
-        On a ring the beams wrap around; otherwise vacated beams are NaN.
+        On a ring the beams wrap around; otherwise vacated beams are NaN. A shift of 0 (a
+        sensor that did not turn) gives ``values`` itself, not a copy: not to be changed.
         """
+        if shift == 0:
+            return values
         if self.ring:  # np.roll, as a cached gather (take() is cheaper than roll's copies)
             key = ("roll", shift)
             if key not in self._tables:

@@ -52,8 +52,8 @@ class LevelView:
         ahead_s: s for which the beam's returns have been in front of the view.
         farther_s: s for which the beam's level returns have been beyond the view.
         block: the four as the rows of one ``(4, n)`` array, when they are (the memory
-            makes them so: moving, gathering or filling a beam's four values is then one
-            numpy call instead of four); None otherwise.
+            makes them so: gathering a beam's clocks, or advancing them, is then one
+            numpy call instead of three); None otherwise.
     """
 
     ranges: np.ndarray
@@ -124,8 +124,11 @@ class LevelMemory:
         target = beams.take(order)
         view = LevelView.empty(layout.count)
         view.ranges[target] = ranges.take(order)
-        if state.block is not None:  # the three clocks in one gather and one write
-            view.block[1:, target] = state.block[1:].take(order, axis=1)
+        if state.block is not None:  # the three clocks in one gather (written row by row:
+            # a write through a slice and an index array costs more than three)
+            gathered = state.block[1:].take(order, axis=1)
+            for mine, theirs in zip(view.block[1:], gathered, strict=True):
+                mine[target] = theirs
         else:
             for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
                 mine[target] = theirs.take(order)
@@ -260,8 +263,5 @@ def _fill_single_holes(view: LevelView) -> None:
     fill = indices(~np.isnan(level.take(source)))
     if fill.size < hole.size:
         hole, source = hole.take(fill), source.take(fill)
-    if view.block is not None:  # the four values of a beam in one gather and one write
-        view.block[:, hole] = view.block.take(source, axis=1)
-        return
     for values in (level, view.ages, view.ahead_s, view.farther_s):
         values[hole] = values.take(source)
