@@ -71,15 +71,18 @@ def seen_through(
 
 def free_space_evidence(
     gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray | None]:
     """:func:`new_points` and :func:`seen_through` in one pass: the margin is worked out
-    once for both.
+    once for both. Where no return is new, the returns seen through the view tell nothing
+    (they only weigh against lines with new returns): None then, not worked out.
 
     Args as :func:`new_points`.
     """
     margin = margin_rel * ranges
     margin += margin_m  # margin_m + margin_rel * ranges, as the two functions add them
     new = gaps > margin  # NaN (unknown, invalid) compares False
+    if not np.count_nonzero(new):
+        return new, None
     return new, gaps < np.negative(margin, out=margin)
 
 

@@ -212,10 +212,11 @@ class ImprovedPitchVariationFilter:
         velocity: Motion,
         fresh: bool,
         coast: bool,
-    ) -> tuple[np.ndarray, np.ndarray, LevelView | None, WorldStatic | None]:
+    ) -> tuple[np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), returns
-        seen through it, the view itself, and the world-static test against the scans of the last
-        ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
+        seen through it (None where no return is new: nothing is scored), the view itself,
+        and the world-static test against the scans of the last ``STATIC_BASELINE_S``
+        (None where there is nothing to compare with, or no new return)."""
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
@@ -230,8 +231,9 @@ class ImprovedPitchVariationFilter:
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
         # only lines with new returns are scored, and only scored lines are tested: a scan
-        # with no new return (most) has no use for the test
-        earlier = self._recent.oldest() if np.count_nonzero(new) else None
+        # with no new return (most; then no return seen through is worked out) has no
+        # use for the test
+        earlier = None if through is None else self._recent.oldest()
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier

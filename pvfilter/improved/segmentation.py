@@ -165,6 +165,17 @@ class Segments:
             self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
         return self.memo["ranges"]
 
+    @property
+    def bounds(self) -> np.ndarray:
+        """Each segment's first point, then the number of points, ``(k + 1,)``: segment
+        ``i`` is points ``bounds[i] .. bounds[i + 1] - 1`` (kept in ``memo``: the
+        segmentation works it out)."""
+        if "bounds" not in self.memo:
+            bounds = np.zeros(len(self) + 1, dtype=np.intp)
+            np.cumsum(self.sizes, out=bounds[1:])
+            self.memo["bounds"] = bounds
+        return self.memo["bounds"]
+
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
         """Centroids, unit normals, distances and the two spreads of the fitted lines."""
@@ -248,4 +259,5 @@ def segment_scan(
         sizes=bounds[1:] - starts,
     )
     segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
+    segments.memo["bounds"] = bounds  # and Segments.bounds
     return segments
