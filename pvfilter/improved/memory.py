@@ -51,30 +51,20 @@ class LevelView:
         ages: s since a level return last confirmed the beam.
         ahead_s: s for which the beam's returns have been in front of the view.
         farther_s: s for which the beam's level returns have been beyond the view.
-        block: the four as the rows of one ``(4, n)`` array, when they are (the memory
-            makes them so: gathering a beam's clocks, or advancing them, is then one
-            numpy call instead of three); None otherwise.
     """
 
     ranges: np.ndarray
     ages: np.ndarray
     ahead_s: np.ndarray
     farther_s: np.ndarray
-    block: np.ndarray | None = dataclasses.field(default=None, repr=False)
-
-    @classmethod
-    def of_block(cls, block: np.ndarray) -> LevelView:
-        """The view whose ranges, ages, ahead and farther clocks are the rows of ``block``."""
-        return cls(block[0], block[1], block[2], block[3], block)
 
     @classmethod
     def empty(cls, n: int) -> LevelView:
         """A view that knows nothing, of ``n`` beams."""
-        block = np.empty((4, n))  # np.full costs a Python-level call
-        block[0].fill(np.nan)
-        block[1].fill(np.inf)
-        block[2:].fill(0.0)
-        return cls.of_block(block)
+        ranges, ages = np.empty(n), np.empty(n)  # np.full costs a Python-level call each
+        ranges.fill(np.nan)
+        ages.fill(np.inf)
+        return cls(ranges, ages, np.zeros(n), np.zeros(n))
 
 
 class LevelMemory:
@@ -124,15 +114,9 @@ class LevelMemory:
         target = beams.take(order)
         view = LevelView.empty(layout.count)
         view.ranges[target] = ranges.take(order)
-        if state.block is not None:  # the three clocks in one gather (written row by row:
-            # a write through a slice and an index array costs more than three)
-            gathered = state.block[1:].take(order, axis=1)
-            for mine, theirs in zip(view.block[1:], gathered, strict=True):
-                mine[target] = theirs
-        else:
-            for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
-                mine[target] = theirs.take(order)
-            view.farther_s[target] = state.farther_s.take(order)
+        for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
+            mine[target] = theirs.take(order)
+        view.farther_s[target] = state.farther_s.take(order)
         _fill_single_holes(view)
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -167,14 +151,11 @@ class LevelMemory:
         self.time_increment = time_increment
         valid = ~np.isnan(ranges)
         if view is None:  # the first scan of a sequence: all it has
-            state = LevelView.empty(len(ranges))
-            np.copyto(state.ranges, np.where(no_return, np.inf, ranges))
-            np.copyto(state.ages, np.where(valid | no_return, 0.0, np.inf))
-            self.state = state
+            level_ranges = np.where(no_return, np.inf, ranges)
+            seen = np.where(valid | no_return, 0.0, np.inf)
+            self.state = LevelView(level_ranges, seen, np.zeros(len(ranges)), np.zeros(len(ranges)))
             return
-        state = LevelView.of_block(np.empty((4, len(ranges))))  # every row is written below
-        current = state.ranges
-        np.copyto(current, view.ranges)
+        current = view.ranges.copy()
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
@@ -183,28 +164,19 @@ class LevelMemory:
         in_front = ranges < floor  # NaN (invalid) compares False
         # in front of the view this long: the clocks are finite and >= 0 (sums of time
         # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
-        ahead, ages, farther = state.ahead_s, state.ages, state.farther_s
-        if level and view.block is not None:  # the three clocks advance in one call
-            np.add(view.block[1:], dt, out=state.block[1:])
-        elif level:
-            np.add(view.ahead_s, dt, out=ahead)
-            np.add(view.ages, dt, out=ages)
-            np.add(view.farther_s, dt, out=farther)
-        else:  # a tilted plane: the view only moves, and its clock stands still
-            np.add(view.ahead_s, dt, out=ahead)
-            np.copyto(ages, view.ages)
-            np.copyto(farther, view.farther_s)
+        ahead = view.ahead_s + dt
         ahead *= in_front
         settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0
-        if not level:
+        if not level:  # a tilted plane: the view only moves, and its clock stands still
             if settled.size:
                 current[settled] = ranges.take(settled)
-            self.state = state
+            self.state = LevelView(current, view.ages, ahead, view.farther_s)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = (ranges > current + margin) | (no_return & (current != np.inf))
+        farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
@@ -214,9 +186,10 @@ class LevelMemory:
         if settled.size:
             current[settled] = ranges.take(settled)
         current[no_return & take] = np.inf
+        ages = view.ages + dt
         ages[valid | no_return] = 0.0
         farther[take] = 0.0
-        self.state = state
+        self.state = LevelView(current, ages, ahead, farther)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
