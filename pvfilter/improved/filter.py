@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pvfilter.contract import check_attitude, check_pose
+from pvfilter.improved.anchor import explains_view_error, register_view
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import EgoMotion, Match
@@ -32,7 +33,7 @@ from pvfilter.improved.evidence import (
 )
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
-from pvfilter.improved.motion import Motion
+from pvfilter.improved.motion import MIN_PAIRS, Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.scoring import line_pitch
@@ -229,6 +230,18 @@ class ImprovedPitchVariationFilter:
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
+        # a drifted view puts returns in front of it and beyond it (re-anchoring must
+        # explain MIN_PAIRS of those beyond: with fewer there is nothing to try)
+        drift = np.count_nonzero(new) >= MIN_PAIRS and np.count_nonzero(through) >= MIN_PAIRS
+        if params.reanchor_view and drift:
+            anchored = self._reanchor(
+                scan, ranges, level_ranges, directions, view, gaps, step, velocity
+            )
+            if anchored is not None:
+                view, gaps = anchored
+                new, through = free_space_evidence(
+                    gaps, ranges, params.free_margin_m, params.free_margin_rel
+                )
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier
@@ -236,6 +249,33 @@ class ImprovedPitchVariationFilter:
                 level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
             )
         return new, through, view, static
+
+    def _reanchor(
+        self,
+        scan: Scan,
+        ranges: np.ndarray,
+        level_ranges: np.ndarray,
+        directions: np.ndarray,
+        view: LevelView,
+        gaps: np.ndarray,
+        step: Motion,
+        velocity: Motion,
+    ) -> tuple[LevelView, np.ndarray] | None:
+        """The level view registered against the scan, and its gaps, where the correction
+        explains returns seen through the view (:mod:`pvfilter.improved.anchor`); None:
+        the view stands. The memory takes the corrected view in with the scan."""
+        layout, params = self._layout, self.params
+        correction = register_view(level_ranges, directions, view.ranges, layout)
+        if correction is None:
+            return None
+        moved = self._memory.view(
+            layout, scan.range_max, step.then(correction), velocity, scan.time_increment, params
+        )
+        moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
+        margin = params.free_margin_m + params.free_margin_rel * ranges
+        if not explains_view_error(gaps, moved_gaps, margin):
+            return None
+        return moved, moved_gaps
 
     @staticmethod
     def _tilt(detection: LineDetection, attitude: Attitude | None) -> float:

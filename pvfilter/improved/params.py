@@ -66,6 +66,9 @@ class ImprovedParams:
             be a floor line: the line stays new for the whole event.
         ego_motion: compensate the sensor's own motion between scans (scan matching, with
             wheel odometry as the prior when given).
+        reanchor_view: register the level view against a scan with new returns, and
+            correct it where that explains returns seen through it (the dead-reckoned
+            view drifts over a pitch event; :mod:`pvfilter.improved.anchor`).
         max_yaw_rate_rad_s: fastest turn the ego-motion search considers, rad/s.
         association_m: beam pairs farther apart than this take no part in the fit, m.
         odom_slip: share of the odometry's step the wheels may be off by (slip on hard
@@ -114,6 +117,7 @@ class ImprovedParams:
     max_gap_s: float = 0.35  # s
     hold_behind_lines: bool = True
     ego_motion: bool = True
+    reanchor_view: bool = True
     max_yaw_rate_rad_s: float = 2.5  # rad/s
     association_m: float = 0.25  # m
     odom_slip: float = 0.15  # 1
@@ -166,7 +170,7 @@ class ImprovedParams:
         check_integer("min_points", self.min_points, 1)
         check_integer("extend_beams", self.extend_beams, 0)
         check_integer("down_side_min_new", self.down_side_min_new, 1)
-        for name in ("hold_behind_lines", "ego_motion", "spread"):
+        for name in ("hold_behind_lines", "ego_motion", "reanchor_view", "spread"):
             check_flag(name, getattr(self, name))
 
     def scanner_height_m(self, tilt_rad: float | np.ndarray) -> float | np.ndarray:
