@@ -1,4 +1,4 @@
-"""The improved filter: segment -> ego-motion -> level view -> detect -> remove.
+"""The improved filter: segment -> ego-motion -> level view (re-anchored) -> detect -> remove.
 
 A :class:`pvfilter.ScanFilter` like the paper's filter (``process(scan)``, ``reset()``; its
 result an :class:`~pvfilter.improved.ImprovedResult`), built on the physics of a tilted scan
