@@ -168,19 +168,31 @@ def cast_rays(
     geoms: np.ndarray,
     types: np.ndarray,
     sizes: np.ndarray,
-    index: tuple,
+    extents: np.ndarray,
+    cut: np.ndarray,
+    rbound: np.ndarray,
     xpos: np.ndarray,
     xmat: np.ndarray,
+    cutoff: float,
     geom_ids: np.ndarray,
     distances: np.ndarray,
     normals: np.ndarray,
 ) -> None:
-    """Every ray's nearest hit among the geoms ``index_geoms`` filed (see the module).
+    """Every ray's nearest hit (see the module): one compiled call per cast.
 
-    Distances are in units of each ray's length, as MuJoCo gives them; among equal ones
-    the lowest geom id wins, as in MuJoCo's loop over the geoms. A ray without a hit (or
-    of length below MuJoCo's minimum) gets geom -1, distance -1 and a zero normal.
+    Args:
+        origin, vec: (3,) where the rays start; (n, 3) their directions.
+        geoms, types, sizes: (m,) the geoms rays can see, their types; (m, 3) their
+            ``geom_size``.
+        extents, cut, rbound, xpos, xmat, cutoff: as :func:`index_geoms` takes them.
+        geom_ids, distances, normals: (n,), (n,) and (3 n,) out: the geom hit, its
+            distance in units of the ray's length, the unit surface normal there.
+
+    Among equal distances the lowest geom id wins, as in MuJoCo's loop over the geoms. A
+    ray without a hit (or of length below MuJoCo's minimum) gets geom -1, distance -1
+    and a zero normal.
     """
+    index = index_geoms(origin, extents, cut, rbound, geoms, xpos, xmat, cutoff)
     order, near, low, high, start, items = index
     for r in range(len(distances)):
         v = vec[r]

@@ -32,7 +32,7 @@ import math
 import mujoco
 import numpy as np
 
-from twsb_sim.ray_culling import cast_rays, index_geoms
+from twsb_sim.ray_culling import cast_rays
 from twsb_sim.ray_shapes import PLANE, SHAPES
 
 _NUM_GEOM_GROUPS = 6  # mjNGROUP
@@ -116,22 +116,17 @@ class RayCaster:
                 in ``mj_multiRay`` (not a maximum range: clip the distances yourself).
         """
         n = len(distances)
-        vec = directions.reshape(-1)
         if not self.compiled:
             mujoco.mj_multiRay(
-                self.model, data, origin, vec, self.geomgroup, self.flg_static,
-                self.bodyexclude, geom_ids, distances, normals, n, cutoff,
+                self.model, data, origin, directions.reshape(-1), self.geomgroup,
+                self.flg_static, self.bodyexclude, geom_ids, distances, normals, n, cutoff,
             )  # fmt: skip
             return
-        out_normals = np.empty(3 * n) if normals is None else normals
-        point = np.ascontiguousarray(origin, dtype=np.float64)
-        xpos, xmat = data.geom_xpos, data.geom_xmat
-        index = index_geoms(
-            point, self._extents, self._cut, self._rbound, self._geoms, xpos, xmat, float(cutoff)
-        )
         cast_rays(
-            point, vec.reshape(n, 3), self._geoms, self._types, self._sizes, index, xpos, xmat,
-            geom_ids, distances, out_normals,
+            np.asarray(origin, dtype=np.float64), directions.reshape(n, 3), self._geoms,
+            self._types, self._sizes, self._extents, self._cut, self._rbound, data.geom_xpos,
+            data.geom_xmat, cutoff, geom_ids, distances,
+            np.empty(3 * n) if normals is None else normals,
         )  # fmt: skip
 
 
