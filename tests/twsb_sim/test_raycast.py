@@ -206,5 +206,7 @@ def test_a_ray_of_no_length_hits_nothing():
     model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    ids, dist, normals = _ours(RayCaster(model), data, np.zeros(3), np.zeros((2, 3)), 12.0)
-    assert ids.tolist() == [-1, -1] and dist.tolist() == [-1, -1] and not normals.any()
+    short = np.array([[0.0, 0.0, 0.0], [1e-8, 0.0, 0.0], [1e-7, 0.0, 0.0]])  # 1e-15 squared
+    ids, dist, normals = _assert_same(model, data, np.zeros(3), short)
+    assert ids.tolist() == [-1, -1, 0] and dist.tolist()[:2] == [-1, -1]
+    assert not normals[:6].any()
