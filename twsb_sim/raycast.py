@@ -13,11 +13,12 @@ far fewer geoms:
 - per cast, as ``mj_multiRay`` does, a geom of a body with a bounding volume is left
   out when its centre lies farther from the origin than ``cutoff`` plus its bounding
   radius (``geom_rbound``; planes, whose is 0, are never left out);
-- **culling**: each remaining geom's bounding sphere (centre ``geom_xpos``, read at each
-  cast, so moving geoms are where they are) gives the nearest distance at which a ray
-  could meet it; the geoms are sorted by that distance, a ray skips a geom whose sphere
-  it misses, and stops once its best hit is nearer than the next geom's sphere. Planes
-  are unbounded: always tested. A ray then meets a few geoms, not all;
+- **culling** (:mod:`twsb_sim.ray_culling`): per cast, each remaining geom gets a box
+  in world axes from its pose (``geom_xpos``, ``geom_xmat``, read at each cast, so moving
+  geoms are where they are) and the span of azimuths it covers from the origin; the
+  geoms are filed by azimuth sector, nearest first. A ray walks its own sector, tests
+  each geom's box before the exact intersection, and stops at the first box beyond its
+  best hit: it meets a few geoms, not all;
 - **the intersections** are MuJoCo's own formulas (:mod:`twsb_sim.ray_shapes`); among
   equal distances the lowest geom id wins, as in MuJoCo's loop over the geoms.
 
