@@ -126,7 +126,7 @@ class RayCaster:
         cast_rays(
             np.asarray(origin, dtype=np.float64), directions.reshape(n, 3), self._geoms,
             self._types, self._sizes, self._extents, self._cut, self._rbound, data.geom_xpos,
-            data.geom_xmat, cutoff, geom_ids, distances,
+            data.geom_xmat, float(cutoff), geom_ids, distances,
             np.empty(3 * n) if normals is None else normals,
         )  # fmt: skip
 
