@@ -173,7 +173,9 @@ def index_geoms(
 
 @kernel
 def _box_entry(low: np.ndarray, high: np.ndarray, j: int, u: tuple, inv: tuple) -> float:
-    """Where a unit ray from the origin enters box ``j`` (m), or -1 if it misses it."""
+    """Where a ray from the origin enters box ``j`` (m from the origin), or -1 if it misses
+    it; ``u`` is the ray's direction, ``inv`` its length over each component (0 where
+    the component is 0)."""
     enter, leave = 0.0, math.inf
     for i in range(3):
         if u[i] == 0.0:
@@ -227,9 +229,9 @@ def cast_rays(
         n0 = n1 = n2 = 0.0
         if vv >= MINVAL:
             length = math.sqrt(vv)
-            u = (v[0] / length, v[1] / length, v[2] / length)
-            inv = (1.0 / u[0] if u[0] != 0.0 else 0.0, 1.0 / u[1] if u[1] != 0.0 else 0.0,
-                   1.0 / u[2] if u[2] != 0.0 else 0.0)  # fmt: skip
+            u = (v[0], v[1], v[2])  # only its zeros and, through inv, its direction count
+            inv = (length / u[0] if u[0] != 0.0 else 0.0, length / u[1] if u[1] != 0.0 else 0.0,
+                   length / u[2] if u[2] != 0.0 else 0.0)  # fmt: skip
             s = _sector(_pseudo_angle(v[0], v[1]))
             for e in range(start[s], start[s + 1]):
                 j = items[e]
