@@ -324,6 +324,7 @@ class Lidar:
         ids, dist, normals = self._geom_ids, self._dist, self._normals
         if not grouped:  # one origin for all: one cast
             cast(data, origins, dirs, ids, dist, normals, limit)
+            # no groups: only the normals' products with the directions; origins unread
             from_beam_origins(dist, ids, normals, self._along, dirs, dirs, self._no_groups)
             return
         # a cast costs ~20 us whatever its size (filing the geoms): a few, then the plane fix
