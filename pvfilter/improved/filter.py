@@ -112,13 +112,16 @@ class ImprovedPitchVariationFilter:
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
         match, fresh, coast = self._match(mid_points, directions, dt, prior, pose, attitude, fresh)
+        # coasting on a constant velocity, the motion is a guess: the scan is compared with
+        # nothing; on the wheel odometry it is a measurement within its spread, and it is
+        blind = coast and pose is None
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
         level_ranges = match.ranges
         if level_ranges is None:
             level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
         new, through, view, static = self._evidence(
-            scan, ranges, level_ranges, directions, match.step, velocity, fresh, coast
+            scan, ranges, level_ranges, directions, match.step, velocity, fresh, blind
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
@@ -129,14 +132,14 @@ class ImprovedPitchVariationFilter:
             attitude,
             self.params,
             match.step,
-            fresh or coast,
+            fresh or blind,
             static,
             through,
         )
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            confident = None if fresh or coast else line_pitch(segments, scores, self.params)
+            confident = None if fresh or blind else line_pitch(segments, scores, self.params)
             self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
@@ -157,9 +160,9 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
     ) -> tuple[Match, bool, bool]:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior: a match that cannot be trusted removes nothing; in a pitch event (the last
-        scan was tilted) the prior carries on until a scan matches again, otherwise the
-        filter re-baselines."""
+        prior: in a pitch event (the last scan was tilted) a match that cannot be trusted
+        lets the prior carry on until a scan matches again, otherwise the filter
+        re-baselines and the scan removes nothing."""
         if fresh:
             self._rebaseline()
             return Match(Motion(), True), True, False
@@ -172,7 +175,7 @@ class ImprovedPitchVariationFilter:
         if fresh:
             self._rebaseline()
         elif coast:
-            match = self._ego.coast(match, match.tilt_rad)
+            match = self._ego.coast(match, match.tilt_rad, dt, pose)
         return match, fresh, coast
 
     def _remember(
@@ -212,7 +215,7 @@ class ImprovedPitchVariationFilter:
         step: Motion,
         velocity: Motion,
         fresh: bool,
-        coast: bool,
+        blind: bool,
     ) -> tuple[np.ndarray, np.ndarray, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), returns
         seen through it, the view itself, and the world-static test against the scans of the last
@@ -224,7 +227,7 @@ class ImprovedPitchVariationFilter:
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
         earlier = self._recent.moved(step)
-        if coast:  # the motion is the prior's: nothing is compared
+        if blind:  # the motion is a constant-velocity guess: nothing is compared
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
         new, through = free_space_evidence(
