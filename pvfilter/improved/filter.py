@@ -59,6 +59,7 @@ class ImprovedPitchVariationFilter:
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
+        self._line_params = self.params  # the point counts for the scan's beam spacing
         self._previous_stamp: float | None = None
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
@@ -103,7 +104,8 @@ class ImprovedPitchVariationFilter:
         points = layout.points(ranges)
         beams = indices(valid)
         # segment, in the scan's own frame (a floor line moves with the sensor)
-        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, self.params)
+        line_params = self._line_params  # the point counts for this scan's beam spacing
+        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, line_params)
         directions = np.empty(len(scan))  # each return's local line direction, rad
         directions.fill(np.nan)
         directions[beams] = segments.directions
@@ -130,7 +132,7 @@ class ImprovedPitchVariationFilter:
             segments,
             new,
             attitude,
-            self.params,
+            line_params,
             match.step,
             fresh or blind,
             static,
@@ -139,7 +141,7 @@ class ImprovedPitchVariationFilter:
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            confident = None if fresh or blind else line_pitch(segments, scores, self.params)
+            confident = None if fresh or blind else line_pitch(segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
@@ -320,6 +322,7 @@ class ImprovedPitchVariationFilter:
         self._new_sequence = False
         if not fits:
             self._layout = BeamLayout.of(scan)
+            self._line_params = self.params.for_beam_spacing(self._layout.increment)
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
