@@ -77,10 +77,7 @@ class LevelView:
         directions = np.stack((np.cos(angles), np.sin(angles), np.zeros_like(angles)), -1)
         geom = np.empty(beams.size, dtype=np.int32)
         dist = np.empty(beams.size, dtype=np.float64)
-        mujoco.mj_multiRay(
-            self.model, data, origin, directions.reshape(-1), self.lidar.geomgroup, 1, -1,
-            geom, dist, None, beams.size, self.lidar.range_max,
-        )  # fmt: skip
+        self.lidar.caster.cast(data, origin, directions, geom, dist, None, self.lidar.range_max)
         tilted = np.linalg.norm(reading.hit_points_world[beams] - origin, axis=1)
         seen = (geom == reading.geom_ids[beams]) & (
             np.abs(tilted - dist) <= LEVEL_RANGE_TOLERANCE * dist

@@ -41,7 +41,8 @@ import numpy as np
 
 from twsb_sim.house.surfaces import ROBOT_GEOM_GROUP, SurfaceClass, surface_classes
 from twsb_sim.labels import BeamLabel
-from twsb_sim.lidar_reading import PARAMS, read_beams
+from twsb_sim.lidar_reading import PARAMS, from_beam_origins, read_beams
+from twsb_sim.raycast import RayCaster
 from twsb_sim.sensors.checks import non_negative, number, within
 from twsb_sim.sensors.sweep import PoseTrack
 
@@ -239,8 +240,15 @@ class Lidar:
         start = self._beam_offsets_s.min() if len(angles) else 0.0
         part = np.floor((self._beam_offsets_s - start) / self.scan_time * config.ray_groups)
         group = np.clip(part.astype(int), 0, config.ray_groups - 1)
-        self._groups = [np.flatnonzero(group == g) for g in range(config.ray_groups)]
-        self._groups = [g for g in self._groups if len(g)]
+        # each group is a contiguous run of beams, cast from its middle beam's origin
+        self._runs = []  # (first, stop, middle) beam of each group
+        self._cast_from = np.empty(len(angles), dtype=np.int64)  # each beam's middle beam
+        for g in range(config.ray_groups):
+            beams = np.flatnonzero(group == g)
+            if len(beams):
+                lo, hi = int(beams[0]), int(beams[-1]) + 1
+                self._runs.append((lo, hi, lo + (hi - lo) // 2))
+                self._cast_from[lo:hi] = lo + (hi - lo) // 2
         self.surface_class = surface_classes(model)  # uint8 per geom id
         # label of a hit per geom (before the normal test); the extra last entry serves
         # geom id -1, so one gather labels misses too
@@ -251,11 +259,13 @@ class Lidar:
         self._label_by_geom = np.append(by_class[self.surface_class], np.uint8(BeamLabel.NO_RETURN))
         self.geomgroup = np.ones(_NUM_GEOM_GROUPS, dtype=np.uint8)
         self.geomgroup[ROBOT_GEOM_GROUP] = 0
+        self.caster = RayCaster(model, self.geomgroup)  # mj_multiRay's answers, sooner
         m = self._useful_idx.size
         self._geom_ids = np.empty(m, dtype=np.int32)
         self._dist = np.empty(m, dtype=np.float64)
         self._normals = np.empty(3 * m, dtype=np.float64)
         self._along = np.empty(m, dtype=np.float64)  # normal . direction of each beam
+        self._no_groups = np.empty(0, dtype=np.int64)
         numbers = {
             **{name: getattr(config, name) for name in PARAMS if hasattr(config, name)},
             "cos_grazing_start": math.cos(math.radians(config.grazing_dropout_start_deg)),
@@ -278,7 +288,7 @@ class Lidar:
         position = data.site_xpos[self.site_id].copy()
         rotation = data.site_xmat[self.site_id].reshape(3, 3).copy()
         np.matmul(self._dirs_sensor, rotation.T, out=self._dirs_world)
-        self._cast(data, position, self._dirs_world, None)
+        self._cast(data, position, self._dirs_world, grouped=False)
         origins = np.broadcast_to(position, self._dirs_world.shape)
         return self._reading(origins, self._dirs_world, rng, position, rotation, float(data.time))
 
@@ -301,45 +311,27 @@ class Lidar:
         """
         stamp = stamp_s
         origins, dirs = track.beams(stamp + self._beam_offsets_s, self._dirs_sensor)
-        self._cast(data, origins, dirs, self._groups)
+        self._cast(data, origins, dirs, grouped=True)
         position, rotation = track.at(stamp)
         return self._reading(origins, dirs, rng, position, rotation, stamp)
 
     def _cast(
-        self,
-        data: mujoco.MjData,
-        origins: np.ndarray,
-        dirs: np.ndarray,
-        groups: list[np.ndarray] | None,
+        self, data: mujoco.MjData, origins: np.ndarray, dirs: np.ndarray, grouped: bool
     ) -> None:
         """Fill ``_geom_ids``, ``_dist`` (from each beam's own origin), ``_normals`` and
         ``_along`` (each hit normal dotted with its beam's direction)."""
-        cfg = self.config
-        normals = self._normals.reshape(-1, 3)
-        if groups is None:  # one origin for all: one call
-            mujoco.mj_multiRay(
-                self.model, data, origins, dirs.reshape(-1), self.geomgroup, 1, -1,
-                self._geom_ids, self._dist, self._normals, len(dirs), cfg.range_max_m,
-            )  # fmt: skip
-            np.einsum("ij,ij->i", normals, dirs, out=self._along)
+        cast, limit = self.caster.cast, self.config.range_max_m
+        ids, dist, normals = self._geom_ids, self._dist, self._normals
+        if not grouped:  # one origin for all: one cast
+            cast(data, origins, dirs, ids, dist, normals, limit)
+            # no groups: only the normals' products with the directions; origins unread
+            from_beam_origins(dist, ids, normals, self._along, dirs, dirs, self._no_groups)
             return
-        # a multi-ray call costs ~50 us whatever its size: a few calls, then the plane fix
-        offsets = np.empty_like(origins)  # each beam's origin from where its group was cast
-        for beams in groups:
-            lo, hi = beams[0], beams[-1] + 1  # each group is a contiguous run of beams
-            mid = lo + (hi - lo) // 2
-            np.subtract(origins[lo:hi], origins[mid], out=offsets[lo:hi])
-            mujoco.mj_multiRay(
-                self.model, data, origins[mid].copy(), dirs[lo:hi].reshape(-1), self.geomgroup,
-                1, -1, self._geom_ids[lo:hi], self._dist[lo:hi], self._normals[3 * lo : 3 * hi],
-                hi - lo, cfg.range_max_m,
-            )  # fmt: skip
-        # a plane n.x = c hit from p0 at range r is hit from p0 + d at r - n.d / n.u
-        along = np.einsum("ij,ij->i", normals, dirs, out=self._along)
-        shift = np.einsum("ij,ij->i", normals, offsets)
-        fix = (self._geom_ids >= 0) & (np.abs(along) > 1e-9)
-        np.divide(shift, along, out=shift, where=fix)
-        np.subtract(self._dist, shift, out=self._dist, where=fix)
+        # a cast costs ~20 us whatever its size (filing the geoms): a few, then the plane fix
+        for lo, hi, mid in self._runs:
+            cast(data, origins[mid], dirs[lo:hi], ids[lo:hi], dist[lo:hi],
+                 normals[3 * lo : 3 * hi], limit)  # fmt: skip
+        from_beam_origins(dist, ids, normals, self._along, origins, dirs, self._cast_from)
 
     def _reading(
         self,

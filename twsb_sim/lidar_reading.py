@@ -109,3 +109,45 @@ def read_beams(
         for k in range(3):
             points[beam, k] = origins[j, k] + dirs[j, k] * distance_m[j]
     return ranges, labels, points, geoms
+
+
+@kernel
+def from_beam_origins(
+    distance_m: np.ndarray,
+    geom_ids: np.ndarray,
+    normals: np.ndarray,
+    along: np.ndarray,
+    origins: np.ndarray,
+    dirs: np.ndarray,
+    cast_from: np.ndarray,
+) -> None:
+    """Each hit normal dotted with its beam's direction, and ranges moved to the beams'
+    own origins.
+
+    A beam cast from another beam's origin (its group's middle one) hit a surface; a
+    plane ``n.x = c`` hit from ``p0`` at range ``r`` is hit from ``p0 + d`` at ``r - n.d
+    / n.u`` (``u`` the beam's direction), exact for flat surfaces. The sums are taken in
+    the order ``np.einsum`` took them, so the numbers are those of the numpy code this
+    replaced.
+
+    Args:
+        distance_m: ``(m,)`` the cast's ranges, changed in place (m).
+        geom_ids, normals: ``(m,)`` the geoms hit (-1: none); ``(3 m,)`` their normals.
+        along: ``(m,)`` out: each normal dotted with its beam's direction.
+        origins, dirs: ``(m, 3)`` each beam's origin and direction in the world.
+        cast_from: ``(m,)`` the beam whose origin each beam was cast from, or empty when
+            all were cast from their own origin.
+    """
+    for j in range(len(distance_m)):
+        n0, n1, n2 = normals[3 * j], normals[3 * j + 1], normals[3 * j + 2]
+        a = (n0 * dirs[j, 0] + n2 * dirs[j, 2]) + n1 * dirs[j, 1]
+        along[j] = a
+        if len(cast_from) == 0:
+            continue
+        mid = cast_from[j]
+        d0 = origins[j, 0] - origins[mid, 0]
+        d1 = origins[j, 1] - origins[mid, 1]
+        d2 = origins[j, 2] - origins[mid, 2]
+        shift = (n0 * d0 + n2 * d2) + n1 * d1
+        if geom_ids[j] >= 0 and abs(a) > 1e-9:
+            distance_m[j] = distance_m[j] - shift / a

@@ -15,9 +15,12 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   would carry it for ``max_event_s``), the match is tried once more from the robot
   standing since the reference, as it mostly does at the end of a hard stop;
 - a match that is not to be **trusted** (too few pairs, a poor fit, a turn or a drive
-  faster than a robot of this class can, or far from the odometry) removes nothing: in the
-  middle of a pitch event the prior carries the motion (**coasting**) until a scan
-  matches again; otherwise the filter re-baselines.
+  faster than a robot of this class can, or far from the odometry): in the middle of a
+  pitch event the prior carries the motion (**coasting**) until a scan matches again,
+  against the last matched scan, searched over the turn the robot can make in the time
+  since; otherwise the filter re-baselines. A scan coasting on the odometry is filtered
+  as usual (the odometry measures the motion, within its spread); one coasting on a
+  constant velocity removes nothing (its motion is a guess).
 """
 
 from __future__ import annotations
@@ -82,6 +85,7 @@ class EgoMotion:
         self.reference: np.ndarray | None = None  # the last matched scan, unstretched
         self.reference_ranges: np.ndarray | None = None  # its ranges
         self.since_reference = Motion()  # its motion to the previous scan (coasting)
+        self.coasted_s = 0.0  # time from the reference to the previous scan, s (coasting)
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
         self.tilt = 0.0  # the previous scan's tilt, rad
@@ -128,7 +132,9 @@ class EgoMotion:
         if self.reference is None:
             return Match(step_prior, False, guess)
         expected = self.since_reference.then(step_prior)
-        turn = min(self.params.max_yaw_rate_rad_s * dt, math.pi)
+        # the turn since the reference is bounded by the fastest yaw over the time since it
+        # (one scan, or more while coasting: a turn carries on through a pitch event)
+        turn = min(self.params.max_yaw_rate_rad_s * (dt + self.coasted_s), math.pi)
         max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
         level = unstretch(points, guess)
         ranges = np.hypot(level[:, 0], level[:, 1])
@@ -150,8 +156,12 @@ class EgoMotion:
             found = fit(standing, (spread[0], self.params.association_m))
         step = self.since_reference.inverse().then(found)
         trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
-        trusted &= abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
-        trusted &= step.translation_m <= MAX_SPEED_MPS * dt + self.params.association_m
+        # no faster than a robot of this class turns and drives since the reference
+        since_s = dt + self.coasted_s
+        trusted &= abs(found.theta_rad) <= self.params.max_yaw_rate_rad_s * since_s + math.radians(
+            2.0
+        )
+        trusted &= found.translation_m <= MAX_SPEED_MPS * since_s + self.params.association_m
         if odometry:
             off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
             off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
@@ -161,11 +171,23 @@ class EgoMotion:
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges)
 
-    def coast(self, match: Match, tilt_rad: float) -> Match:
+    def coast(
+        self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None = None
+    ) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
-        stays the reference, and the motion since is what the prior expected."""
+        stays the reference, and the motion since is what the prior expected.
+
+        Args:
+            match: the failed match (its step: the prior's).
+            tilt_rad: the scan's tilt, rad.
+            dt: the time since the previous scan, s.
+            pose: the odometry pose now (None: none); the next prior is the odometry's step
+                from here, as the coasted motion already holds the steps up to here.
+        """
         self.since_reference = self.since_reference.then(match.step)
+        self.coasted_s += dt
         self.tilt = tilt_rad
+        self.pose = pose
         return dataclasses.replace(match, trusted=True)
 
     def commit(
@@ -191,6 +213,7 @@ class EgoMotion:
             ranges = np.hypot(reference[:, 0], reference[:, 1])
         self.reference, self.reference_ranges = reference, ranges
         self.since_reference = STILL
+        self.coasted_s = 0.0
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
         self.tilt = tilt_rad

@@ -1,4 +1,4 @@
-"""The improved filter: segment -> ego-motion -> level view -> detect -> remove.
+"""The improved filter: segment -> ego-motion -> level view (re-anchored) -> detect -> remove.
 
 A :class:`pvfilter.ScanFilter` like the paper's filter (``process(scan)``, ``reset()``; its
 result an :class:`~pvfilter.improved.ImprovedResult`), built on the physics of a tilted scan
@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pvfilter.contract import check_attitude, check_pose
+from pvfilter.improved.anchor import explains_view_error, register_view
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import EgoMotion, Match
@@ -32,7 +33,7 @@ from pvfilter.improved.evidence import (
 )
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
-from pvfilter.improved.motion import Motion
+from pvfilter.improved.motion import MIN_PAIRS, Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.scoring import line_pitch
@@ -58,6 +59,7 @@ class ImprovedPitchVariationFilter:
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
+        self._line_params = self.params  # the point counts for the scan's beam spacing
         self._previous_stamp: float | None = None
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
@@ -102,7 +104,8 @@ class ImprovedPitchVariationFilter:
         points = layout.points(ranges)
         beams = indices(valid)
         # segment, in the scan's own frame (a floor line moves with the sensor)
-        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, self.params)
+        line_params = self._line_params  # the point counts for this scan's beam spacing
+        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, line_params)
         directions = np.empty(len(scan))  # each return's local line direction, rad
         directions.fill(np.nan)
         directions[beams] = segments.directions
@@ -111,13 +114,16 @@ class ImprovedPitchVariationFilter:
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
         match, fresh, coast = self._match(mid_points, directions, dt, prior, pose, attitude, fresh)
+        # coasting on a constant velocity, the motion is a guess: the scan is compared with
+        # nothing; on the wheel odometry it is a measurement within its spread, and it is
+        blind = coast and pose is None
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
         level_ranges = match.ranges
         if level_ranges is None:
             level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
         new, through, view, static = self._evidence(
-            scan, ranges, level_ranges, directions, match.step, velocity, fresh, coast
+            scan, ranges, level_ranges, directions, match.step, velocity, fresh, blind
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
@@ -126,16 +132,16 @@ class ImprovedPitchVariationFilter:
             segments,
             new,
             attitude,
-            self.params,
+            line_params,
             match.step,
-            fresh or coast,
+            fresh or blind,
             static,
             through,
         )
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            confident = None if fresh or coast else line_pitch(segments, scores, self.params)
+            confident = None if fresh or blind else line_pitch(segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
@@ -156,9 +162,9 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
     ) -> tuple[Match, bool, bool]:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior: a match that cannot be trusted removes nothing; in a pitch event (the last
-        scan was tilted) the prior carries on until a scan matches again, otherwise the
-        filter re-baselines."""
+        prior: in a pitch event (the last scan was tilted) a match that cannot be trusted
+        lets the prior carry on until a scan matches again, otherwise the filter
+        re-baselines and the scan removes nothing."""
         if fresh:
             self._rebaseline()
             return Match(Motion(), True), True, False
@@ -171,7 +177,7 @@ class ImprovedPitchVariationFilter:
         if fresh:
             self._rebaseline()
         elif coast:
-            match = self._ego.coast(match, match.tilt_rad)
+            match = self._ego.coast(match, match.tilt_rad, dt, pose)
         return match, fresh, coast
 
     def _remember(
@@ -211,12 +217,13 @@ class ImprovedPitchVariationFilter:
         step: Motion,
         velocity: Motion,
         fresh: bool,
-        coast: bool,
+        blind: bool,
     ) -> tuple[np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), returns
-        seen through it (None where no return is new: nothing is scored), the view itself,
-        and the world-static test against the scans of the last ``STATIC_BASELINE_S``
-        (None where there is nothing to compare with, or no new return)."""
+        seen through it (None where no return is new: no share of new returns is worked
+        out then), the view itself, and the world-static test against the scans of the
+        last ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or,
+        without an IMU, no new return)."""
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
@@ -224,16 +231,34 @@ class ImprovedPitchVariationFilter:
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
         self._recent.advance(step)
-        if coast:  # the motion is the prior's: nothing is compared
+        if blind:  # the motion is a constant-velocity guess: nothing is compared
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
-        # only lines with new returns are scored, and only scored lines are tested: a scan
-        # with no new return (most; then no return seen through is worked out) has no
-        # use for the test
-        earlier = None if through is None else self._recent.oldest()
+        # a drifted view puts returns in front of it and beyond it (re-anchoring must
+        # explain MIN_PAIRS of those beyond: with fewer there is nothing to try; with no
+        # new return, none seen through is worked out)
+        drift = (
+            through is not None
+            and np.count_nonzero(new) >= MIN_PAIRS
+            and np.count_nonzero(through) >= MIN_PAIRS
+        )
+        if params.reanchor_view and drift:
+            anchored = self._reanchor(
+                scan, ranges, level_ranges, directions, view, gaps, step, velocity
+            )
+            if anchored is not None:
+                view, gaps = anchored
+                new, through = free_space_evidence(
+                    gaps, ranges, params.free_margin_m, params.free_margin_rel
+                )
+        # without an IMU only lines with new returns are scored, and only scored lines are
+        # tested: a scan with no new return (most) has no use for the test then (with an
+        # IMU every gated line is)
+        tested = through is not None or self._attitude.current is not None
+        earlier = self._recent.oldest() if tested else None
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier
@@ -241,6 +266,33 @@ class ImprovedPitchVariationFilter:
                 level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
             )
         return new, through, view, static
+
+    def _reanchor(
+        self,
+        scan: Scan,
+        ranges: np.ndarray,
+        level_ranges: np.ndarray,
+        directions: np.ndarray,
+        view: LevelView,
+        gaps: np.ndarray,
+        step: Motion,
+        velocity: Motion,
+    ) -> tuple[LevelView, np.ndarray] | None:
+        """The level view registered against the scan, and its gaps, where the correction
+        explains returns seen through the view (:mod:`pvfilter.improved.anchor`); None:
+        the view stands. The memory takes the corrected view in with the scan."""
+        layout, params = self._layout, self.params
+        correction = register_view(level_ranges, directions, view.ranges, layout)
+        if correction is None:
+            return None
+        moved = self._memory.view(
+            layout, scan.range_max, step.then(correction), velocity, scan.time_increment, params
+        )
+        moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
+        margin = params.free_margin_m + params.free_margin_rel * ranges
+        if not explains_view_error(gaps, moved_gaps, margin):
+            return None
+        return moved, moved_gaps
 
     @staticmethod
     def _tilt(detection: LineDetection, attitude: Attitude | None) -> float:
@@ -282,6 +334,7 @@ class ImprovedPitchVariationFilter:
         self._new_sequence = False
         if not fits:
             self._layout = BeamLayout.of(scan)
+            self._line_params = self.params.for_beam_spacing(self._layout.increment)
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0

@@ -21,6 +21,9 @@ import numpy as np
 
 from pvfilter.checks import check_flag, check_integer, check_number
 
+REFERENCE_SPACING_RAD = math.radians(0.5)  # rad: the beam spacing the point counts are set
+# for (720 beams a revolution); see ImprovedParams.for_beam_spacing
+
 
 @dataclasses.dataclass(frozen=True)
 class ImprovedParams:
@@ -66,6 +69,9 @@ class ImprovedParams:
             be a floor line: the line stays new for the whole event.
         ego_motion: compensate the sensor's own motion between scans (scan matching, with
             wheel odometry as the prior when given).
+        reanchor_view: register the level view against a scan with new returns, and
+            correct it where that explains returns seen through it (the dead-reckoned
+            view drifts over a pitch event; :mod:`pvfilter.improved.anchor`).
         max_yaw_rate_rad_s: fastest turn the ego-motion search considers, rad/s.
         association_m: beam pairs farther apart than this take no part in the fit, m.
         odom_slip: share of the odometry's step the wheels may be off by (slip on hard
@@ -78,13 +84,14 @@ class ImprovedParams:
             direction is within this angle of the sensor's y axis, deg.
         break_distance_m: consecutive points farther apart than this (plus 2 % of the
             range) are in different segments, m.
-        min_points: segments with fewer points are never removed, points.
+        min_points: segments with fewer points are never removed, points (at 0.5° between
+            beams: the counts scale with the scan's beam spacing, :meth:`for_beam_spacing`).
         line_length_m: a floor line spans the open space in front of the robot; a segment
             shorter than this scores in proportion to its length, m (clutter makes short
             lines across the direction of travel; fragments of a floor line between
             furniture are taken in by the long line they lie on, ``spread``).
         extend_beams: a detected line grows over at most this many beams at each end
-            while the points stay on it, beams.
+            while the points stay on it, beams (at 0.5° between beams, as ``min_points``).
         extend_tolerance_m: distance from the line within which a point still extends it,
             m (plus 1 % of the range).
         spread: points anywhere on a detected line join it (all floor hits of one scan
@@ -93,7 +100,7 @@ class ImprovedParams:
             are too near to be its ceiling (furniture met at another height, table
             undersides), 1 (1: no side cue).
         down_side_min_new: the strongest line fixes the down side only with at least this
-            many new points, points.
+            many new points, points (at 0.5° between beams, as ``min_points``).
         p_th: a segment is removed when its score exceeds this, 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.
@@ -114,6 +121,7 @@ class ImprovedParams:
     max_gap_s: float = 0.35  # s
     hold_behind_lines: bool = True
     ego_motion: bool = True
+    reanchor_view: bool = True
     max_yaw_rate_rad_s: float = 2.5  # rad/s
     association_m: float = 0.25  # m
     odom_slip: float = 0.15  # 1
@@ -166,8 +174,30 @@ class ImprovedParams:
         check_integer("min_points", self.min_points, 1)
         check_integer("extend_beams", self.extend_beams, 0)
         check_integer("down_side_min_new", self.down_side_min_new, 1)
-        for name in ("hold_behind_lines", "ego_motion", "spread"):
+        for name in ("hold_behind_lines", "ego_motion", "reanchor_view", "spread"):
             check_flag(name, getattr(self, name))
+
+    def for_beam_spacing(self, increment_rad: float) -> ImprovedParams:
+        """These parameters for a scan whose beams lie ``increment_rad`` apart.
+
+        The point counts (``min_points``, ``down_side_min_new``, ``extend_beams``) are set
+        for beams 0.5° apart and scale with the beams per radian: a line at a given
+        distance holds that many more or fewer points. A count never drops below 3, 5 and
+        2 (a line needs a few points for a direction), or below what it was set to.
+        """
+        scale = REFERENCE_SPACING_RAD / abs(increment_rad)
+        if scale == 1.0:
+            return self
+
+        def scaled(count: int, least: int) -> int:
+            return max(min(least, count), round(count * scale))
+
+        return dataclasses.replace(
+            self,
+            min_points=scaled(self.min_points, 3),
+            down_side_min_new=scaled(self.down_side_min_new, 5),
+            extend_beams=scaled(self.extend_beams, 2),
+        )
 
     def scanner_height_m(self, tilt_rad: float | np.ndarray) -> float | np.ndarray:
         """Height of the scanner above the floor with the robot tilted by ``tilt_rad``, m."""

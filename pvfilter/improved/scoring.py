@@ -28,10 +28,13 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    (:func:`pvfilter.improved.geometry.seen_beyond`): both are weighted down.
 5. **The IMU** (optional): a gated line where the IMU's pitch puts the floor (within its
    error band, :mod:`pvfilter.improved.imu`) or the ceiling gains ``IMU_SUPPORT``, as
-   independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``); one the IMU's pitch cannot
-   explain (a floor line nearer than its tilt allows, beyond what the body can reach
-   within the estimate's lag, where the IMU does not show the plane tilted down on that
-   side) is weighted like a line on the up side. The IMU's band
+   independent evidence (``1 - (1 - share)(1 - IMU_SUPPORT)``), weighted down as the
+   score is where the scan itself says the line is not the floor (step 4: it stayed put
+   in the world, or returns lie beyond it): the IMU says where the floor may be, not that
+   a wall is not there. A line the IMU's pitch cannot explain (a floor line nearer than
+   its tilt allows, beyond what the body can reach within the estimate's lag, where the
+   IMU does not show the plane tilted down on that side) is weighted like a line on the
+   up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
    Only an IMU that shows the plane tilted beyond its band supports a line: a level
    estimate cannot tell a tilted plane from a level one, and with a wide band its
@@ -172,10 +175,12 @@ def score_segments(
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
-    if static is not None and np.count_nonzero(score):
-        score *= 1.0 - _world_static_share(segments, score > 0.0, static, tilt, params)
-    # nothing lies beyond a floor line: returns there show a wall beside open space
-    score[seen_beyond(segments, score > 0.0, tilt, time_increment, params)] *= params.up_side_weight
+    # the scan's evidence against a floor line: it stayed put in the world, or returns lie
+    # beyond it; asked of every gated segment the IMU may support, else of the scored ones
+    asked = gates if attitude is not None else score > 0.0
+    stayed, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
+    score *= stayed
+    score[beyond] *= params.up_side_weight
     down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
     if down != 0 and params.up_side_weight < 1.0:
         too_near = segments.distances < ceiling_min_distance(down_tilt, params)
@@ -187,7 +192,10 @@ def score_segments(
     if attitude is not None:
         agree, beyond, contradict = _imu_agreement(segments, side, tilt, attitude, params)
         contradicted = bool((beyond & (scan_score > params.p_th)).any())
-        score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - IMU_SUPPORT), score)
+        # where the floor may be, unless the scan's own evidence says it is not
+        support = IMU_SUPPORT * stayed
+        support[beyond] *= params.up_side_weight
+        score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - support), score)
         score[contradict] *= params.up_side_weight
     return SegmentScores(
         score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
@@ -233,6 +241,28 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
     mean = np.bincount(line, along, k) / count
     variance = np.maximum(np.bincount(line, along * along, k) / count - mean * mean, 0.0)
     return np.maximum(own, np.sqrt(12.0 * variance))
+
+
+def _evidence_against(
+    segments: Segments,
+    asked: np.ndarray,
+    static: WorldStatic | None,
+    tilt: np.ndarray,
+    time_increment: float,
+    params: ImprovedParams,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The scan's own evidence that the ``asked`` segments are not the floor.
+
+    Returns:
+        Per segment, one minus the share of its points that stayed put in the world while
+        the sensor moved (1: none did, or not asked); and per segment, returns lie beyond
+        it (:func:`pvfilter.improved.geometry.seen_beyond`: nothing lies beyond a floor
+        line, so they show a wall beside open space).
+    """
+    stayed = np.ones(len(segments))
+    if static is not None and np.count_nonzero(asked):
+        stayed -= _world_static_share(segments, asked, static, tilt, params)
+    return stayed, seen_beyond(segments, asked, tilt, time_increment, params)
 
 
 def _world_static_share(

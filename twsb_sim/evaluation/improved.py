@@ -42,6 +42,10 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "ego-motion: the level view is not moved",
         lambda p: _set(p, ego_motion=False),
     ),
+    "no_reanchor": (
+        "re-anchoring the level view against the scan (its dead-reckoning drift stays)",
+        lambda p: _set(p, reanchor_view=False),
+    ),
     "previous_scan_only": (
         "level-view memory: the view follows every return at once, except where it holds",
         lambda p: _set(p, memory_shrink_mps=float("inf")),

@@ -98,7 +98,7 @@ def test_coasting_keeps_the_reference_and_carries_the_prior():
     reference = ego.reference
     failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
                        (Motion(0.0, -0.05, 0.0), (0.01, 0.03)), False, None)  # fmt: skip
-    coasted = ego.coast(failed, 0.0)
+    coasted = ego.coast(failed, 0.0, 0.1)
     assert coasted.trusted and coasted.step == Motion(0.0, -0.05, 0.0)
     assert ego.reference is reference and ego.since_reference.tx_m == -0.05
     # the next scan, 5 cm on again, is matched against the old reference: 10 cm
@@ -107,6 +107,37 @@ def test_coasting_keeps_the_reference_and_carries_the_prior():
     found = ego.match(layout, points, segments, DT, (Motion(0.0, -0.05, 0.0), (0.01, 0.03)),
                       False, None)  # fmt: skip
     assert found.trusted and found.step.tx_m == pytest.approx(-0.05, abs=0.005)
+
+
+def test_coasting_on_the_odometry_takes_each_step_once():
+    # the odometry prior is the step from the pose at the previous scan: coasting on it
+    # moves that pose on, or the next prior would hold the coasted steps a second time
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego, layout, points, segments = started(room)
+    ego.pose = np.zeros(3)
+    turning = [np.array([0.0, 0.0, math.radians(6.0) * k]) for k in range(1, 4)]
+    for pose in turning[:2]:
+        prior = ego.prior(DT, pose)
+        assert math.degrees(prior[0].theta_rad) == pytest.approx(-6.0)
+        failed = ego.match(layout, np.full_like(points, np.nan), segments, DT, prior, True, None)
+        ego.coast(failed, 0.0, DT, pose)
+    assert math.degrees(ego.since_reference.theta_rad) == pytest.approx(-12.0)
+    assert math.degrees(ego.prior(DT, turning[2])[0].theta_rad) == pytest.approx(-6.0)
+
+
+def test_a_turn_that_carried_on_while_coasting_is_found_against_the_old_reference():
+    # 0.3 s of coasting through a 1.9 rad/s turn: 33 deg since the reference, beyond what
+    # one scan time allows (14 deg at max_yaw_rate_rad_s); the prior missed the turn
+    room = room_segments(3.0, 2.5, 2.0, 1.5)
+    ego, layout, points, segments = started(room)
+    for _ in range(2):
+        failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
+                           (Motion(), (0.01, 0.03)), False, None)  # fmt: skip
+        ego.coast(failed, 0.0, DT)
+    turned, _ = tilted_scan(pose=(0.0, 0.0, math.radians(33.0)), walls=room)
+    layout, points, segments = prepared(turned)
+    found = ego.match(layout, points, segments, DT, (Motion(), (0.01, 0.03)), False, None)
+    assert math.degrees(found.step.theta_rad) == pytest.approx(-33.0, abs=0.5)
 
 
 def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():

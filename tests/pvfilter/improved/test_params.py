@@ -1,5 +1,6 @@
 """ImprovedParams: defaults, validation that names the field, derived quantities."""
 
+import dataclasses
 import math
 
 import pytest
@@ -43,3 +44,21 @@ def test_switches_that_turn_parts_off_are_accepted():
     ImprovedParams(memory_shrink_mps=float("inf"), max_event_s=float("inf"), extend_beams=0,
                    spread=False, ego_motion=False, max_gap_s=float("inf"),
                    line_length_m=0.0)  # fmt: skip
+
+
+def test_point_counts_scale_with_the_beam_spacing():
+    # a line at a given distance holds half the points at 1 deg, twice as many at 0.25 deg
+    params = ImprovedParams()
+    assert params.for_beam_spacing(math.radians(0.5)) is params
+    coarse = params.for_beam_spacing(math.radians(1.0))
+    assert (coarse.min_points, coarse.down_side_min_new, coarse.extend_beams) == (4, 10, 5)
+    fine = params.for_beam_spacing(-math.radians(0.25))  # a clockwise scanner: the spacing
+    assert (fine.min_points, fine.down_side_min_new, fine.extend_beams) == (16, 40, 20)
+    # a line needs a few points for a direction; a count set lower stays as set
+    sparse = params.for_beam_spacing(math.radians(4.0))
+    assert (sparse.min_points, sparse.down_side_min_new, sparse.extend_beams) == (3, 5, 2)
+    own = ImprovedParams(min_points=2).for_beam_spacing(math.radians(4.0))
+    assert own.min_points == 2
+    assert (
+        dataclasses.replace(coarse, min_points=8, down_side_min_new=20, extend_beams=10) == params
+    )

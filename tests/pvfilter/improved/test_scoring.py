@@ -181,6 +181,21 @@ def test_a_line_that_stayed_put_in_the_world_while_the_sensor_moved_is_a_wall():
     assert standing.scores[0] == pytest.approx(1.0)
 
 
+def test_the_imu_supports_no_line_the_scan_shows_is_a_wall():
+    # the IMU puts the floor 1.44 m ahead, where a wall is that the level view knows (no
+    # new point): it may be the floor, so the IMU alone lends it IMU_SUPPORT; but a wall
+    # that stayed put in the world while the sensor moved is not the floor, whatever the IMU
+    tilt = math.radians(10.0)
+    distance = HEIGHT_M / math.sin(tilt)
+    wall = line(distance, -1.5, distance, 1.5, 60)
+    agreeing = Attitude(tilt, 0.0, math.radians(2.0))
+    none_new = np.zeros(60, bool)
+    _, unknown = scored(wall, new=none_new, attitude=agreeing, static=Told(False))
+    assert unknown.scores[0] == pytest.approx(IMU_SUPPORT)
+    _, stayed = scored(wall, new=none_new, attitude=agreeing, static=Told(True))
+    assert stayed.scores[0] == 0.0
+
+
 def test_a_wall_seen_beside_open_space_is_not_the_floor():
     # a tilted plane meets the floor along the whole width; a wall 1.44 m ahead with the
     # room open beside it (returns 6 m out) is weighted like the up side
