@@ -77,12 +77,31 @@ class BeamLayout:
         beams[(beams < 0) | (beams >= self.count)] = -1
         return beams
 
+    def every_beam(self) -> np.ndarray:
+        """The beam indices ``0 .. count - 1`` (cached; not to be changed)."""
+        if "every" not in self._tables:
+            every = np.arange(self.count)
+            every.flags.writeable = False
+            self._remember("every", every)
+        return self._tables["every"]
+
     def mid_scan_offsets(self) -> np.ndarray:
         """Each beam's index less the middle one's, ``i - (count - 1) / 2`` (cached): times
         the time increment, when it is measured relative to mid-scan."""
         if "mid" not in self._tables:
             self._remember("mid", np.arange(self.count) - 0.5 * (self.count - 1))
         return self._tables["mid"]
+
+    def mid_scan_times(self, time_increment: float) -> np.ndarray:
+        """Each beam's time after mid-scan, s: :meth:`mid_scan_offsets` times
+        ``time_increment`` (cached: a LiDAR keeps its timing scan after scan; not to be
+        changed)."""
+        key = ("times", time_increment)
+        if key not in self._tables:
+            times = self.mid_scan_offsets() * time_increment
+            times.flags.writeable = False
+            self._remember(key, times)
+        return self._tables[key]
 
     def shift_table(self, first: int, count: int, stride: int) -> tuple[np.ndarray, np.ndarray]:
         """Beams ``0, stride, 2 stride, ...`` and, for each of the shifts ``first`` ..
@@ -111,8 +130,11 @@ class BeamLayout:
     def shifted(self, values: np.ndarray, shift: int) -> np.ndarray:
         """``values`` per beam moved by ``shift`` beams (element ``i`` to ``i + shift``).
 
-        On a ring the beams wrap around; otherwise vacated beams are NaN.
+        On a ring the beams wrap around; otherwise vacated beams are NaN. A shift of 0 (a
+        sensor that did not turn) gives ``values`` itself, not a copy: not to be changed.
         """
+        if shift == 0:
+            return values
         if self.ring:  # np.roll, as a cached gather (take() is cheaper than roll's copies)
             key = ("roll", shift)
             if key not in self._tables:

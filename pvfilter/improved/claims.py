@@ -56,7 +56,8 @@ def extension_claims(
     candidate = points.take(index, axis=0)
     step = candidate - points.take(before, axis=0)
     ranges = segments.ranges.take(index)
-    normal, centre = segments.normals[owner], segments.centroids[owner]
+    # rows gathered by take: indexing rows with an index array costs several times more
+    normal, centre = segments.normals.take(owner, axis=0), segments.centroids.take(owner, axis=0)
     offset = (candidate - centre[:, None, :]) * normal[:, None, :]
     off_line = np.abs(np.add.reduce(offset, axis=2))
     on = off_line <= params.extend_tolerance_m + 0.01 * ranges
@@ -104,7 +105,7 @@ def _spread_claims(
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`spread_claims`, worked out."""
     points = segments.points
-    normals, centres = segments.normals[lines], segments.centroids[lines]
+    normals, centres = segments.normals.take(lines, axis=0), segments.centroids.take(lines, axis=0)
     # dot: the same BLAS call as @, without the matmul ufunc's layers
     offsets = np.abs(points.dot(normals.T) - np.add.reduce(normals * centres, axis=1))
     near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]

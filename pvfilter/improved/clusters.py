@@ -148,6 +148,7 @@ def build_detection(
     params: ImprovedParams,
     motion: Motion,
     new_sequence: bool,
+    scored: bool = True,
 ) -> LineDetection:
     """The per-beam results of a scan (its clusters are built when asked for).
 
@@ -162,14 +163,19 @@ def build_detection(
         params: ``p_th``, ``min_points`` and ``down_side_min_new``.
         motion: the ego-motion (kept in the result).
         new_sequence: nothing in the scan was compared with a level view.
+        scored: some segment scores above 0 (False: no claim and no candidate, as on
+            most scans, and ``best`` is all 0).
     """
     n, labels = len(scan), segments.labels
     claim_scores = np.zeros(n)
-    claim_scores[segments.beams] = best
-    candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
     candidates = np.zeros(n, dtype=bool)
     tilted = False
-    if np.count_nonzero(candidate):  # (count_nonzero: any() without Python layers)
+    if not scored:
+        candidate = None
+    else:
+        claim_scores[segments.beams] = best
+        candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
+    if candidate is not None and np.count_nonzero(candidate):  # (count_nonzero: any())
         candidates[segments.beams] = candidate.take(labels)
         strong = candidate & (scores.new_counts >= params.down_side_min_new)
         tilted = np.count_nonzero(strong) > 0

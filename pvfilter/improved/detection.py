@@ -63,10 +63,11 @@ def detect_lines(
     scores = score_segments(
         segments, new_valid, scan.time_increment, attitude, params, static, through_valid
     )
-    if np.count_nonzero(scores.scores):
+    scored = np.count_nonzero(scores.scores) > 0
+    if scored:
         owner, best = best_claims(segments, scores.scores, scores.new_counts, params)
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))
     return build_detection(
-        scan, points, segments, scores, owner, best, new, params, motion, new_sequence
+        scan, points, segments, scores, owner, best, new, params, motion, new_sequence, scored
     )

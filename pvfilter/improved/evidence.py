@@ -71,15 +71,18 @@ def seen_through(
 
 def free_space_evidence(
     gaps: np.ndarray, ranges: np.ndarray, margin_m: float, margin_rel: float
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray | None]:
     """:func:`new_points` and :func:`seen_through` in one pass: the margin is worked out
-    once for both.
+    once for both. Where no return is new, the returns seen through the view tell nothing
+    (they only weigh against lines with new returns): None then, not worked out.
 
     Args as :func:`new_points`.
     """
     margin = margin_rel * ranges
     margin += margin_m  # margin_m + margin_rel * ranges, as the two functions add them
     new = gaps > margin  # NaN (unknown, invalid) compares False
+    if not np.count_nonzero(new):
+        return new, None
     return new, gaps < np.negative(margin, out=margin)
 
 
@@ -96,10 +99,12 @@ def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndar
     if half >= n or half > 4:
         mode = "wrap" if layout.ring else "nearest"
         return minimum_filter1d(values, 2 * half + 1, mode=mode)
+    padded = np.empty(n + 2 * half)  # (filled by slices: cheaper than np.concatenate)
+    padded[half : n + half] = values
     if layout.ring:
-        padded = np.concatenate((values[n - half :], values, values[:half]))
+        padded[:half], padded[n + half :] = values[n - half :], values[:half]
     else:
-        padded = np.concatenate((values[:1].repeat(half), values, values[-1:].repeat(half)))
+        padded[:half], padded[n + half :] = values[0], values[n - 1]
     least = np.minimum(padded[:n], padded[1 : n + 1])
     for offset in range(2, 2 * half + 1):
         np.minimum(least, padded[offset : offset + n], out=least)
@@ -204,7 +209,15 @@ class RecentScans:
     def moved(self, step: Motion) -> tuple[np.ndarray, Motion] | None:
         """Take the sensor's step to the scan now; the oldest kept scan's ranges and the
         motion from it to now (None: none kept)."""
+        self.advance(step)
+        return self.oldest()
+
+    def advance(self, step: Motion) -> None:
+        """Take the sensor's step to the scan now."""
         self.pose = self.pose.then(step)
+
+    def oldest(self) -> tuple[np.ndarray, Motion] | None:
+        """The oldest kept scan's ranges and the motion from it to now (None: none kept)."""
         if not self.scans:
             return None
         _, ranges, pose = self.scans[0]

@@ -218,17 +218,19 @@ class ImprovedPitchVariationFilter:
         velocity: Motion,
         fresh: bool,
         blind: bool,
-    ) -> tuple[np.ndarray, np.ndarray, LevelView | None, WorldStatic | None]:
+    ) -> tuple[np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), returns
-        seen through it, the view itself, and the world-static test against the scans of the last
-        ``STATIC_BASELINE_S`` (None where there is nothing to compare with)."""
+        seen through it (None where no return is new: no share of new returns is worked
+        out then), the view itself, and the world-static test against the scans of the
+        last ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or,
+        without an IMU, no new return)."""
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
         view = self._memory.view(
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
-        earlier = self._recent.moved(step)
+        self._recent.advance(step)
         if blind:  # the motion is a constant-velocity guess: nothing is compared
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
@@ -236,8 +238,13 @@ class ImprovedPitchVariationFilter:
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
         # a drifted view puts returns in front of it and beyond it (re-anchoring must
-        # explain MIN_PAIRS of those beyond: with fewer there is nothing to try)
-        drift = np.count_nonzero(new) >= MIN_PAIRS and np.count_nonzero(through) >= MIN_PAIRS
+        # explain MIN_PAIRS of those beyond: with fewer there is nothing to try; with no
+        # new return, none seen through is worked out)
+        drift = (
+            through is not None
+            and np.count_nonzero(new) >= MIN_PAIRS
+            and np.count_nonzero(through) >= MIN_PAIRS
+        )
         if params.reanchor_view and drift:
             anchored = self._reanchor(
                 scan, ranges, level_ranges, directions, view, gaps, step, velocity
@@ -247,6 +254,11 @@ class ImprovedPitchVariationFilter:
                 new, through = free_space_evidence(
                     gaps, ranges, params.free_margin_m, params.free_margin_rel
                 )
+        # without an IMU only lines with new returns are scored, and only scored lines are
+        # tested: a scan with no new return (most) has no use for the test then (with an
+        # IMU every gated line is)
+        tested = through is not None or self._attitude.current is not None
+        earlier = self._recent.oldest() if tested else None
         static = None
         if earlier is not None:
             earlier_ranges, since = earlier

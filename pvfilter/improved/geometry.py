@@ -132,7 +132,7 @@ def seen_beyond(
         return seen
     x, y = segments.points[:, 0], segments.points[:, 1]
     ranges = segments.ranges
-    centroids = segments.centroids[lines]
+    centroids = segments.centroids.take(lines, axis=0)  # (cheaper than indexing rows)
     side = np.sign(centroids[:, 0])  # (c,)
     depth = np.abs(centroids[:, 0])  # the line's x, m
     cot = 1.0 / np.tan(np.maximum(tilt[lines], 1e-3))

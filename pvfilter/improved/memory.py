@@ -96,13 +96,13 @@ class LevelMemory:
         :meth:`update` does, with what this returns.
         """
         state = self.state
-        remembered = np.fmin(state.ranges, range_max)  # free space: a point at range_max
-        known = indices(~np.isnan(remembered))
-        seen = remembered.take(known)  # the known beams' points, as layout.points gives them
+        # free space, and an unknown beam too (fmin ignores NaN), is a point at range_max:
+        # every beam has a point to move (range_max is finite), so no beam is left out
+        remembered = np.fmin(state.ranges, range_max)
         x, y = move_xy(
-            seen * layout.cos.take(known),
-            seen * layout.sin.take(known),
-            known,
+            remembered * layout.cos,
+            remembered * layout.sin,
+            layout.every_beam(),
             layout,
             motion,
             (self.time_increment, self.velocity),
@@ -110,13 +110,13 @@ class LevelMemory:
         )
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
-        order = nearest_first(beams, ranges, layout)
-        target, source = beams.take(order), known.take(order)
+        order = nearest_first(beams, ranges, layout)  # the moved points, by their beams
+        target = beams.take(order)
         view = LevelView.empty(layout.count)
         view.ranges[target] = ranges.take(order)
         for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
-            mine[target] = theirs.take(source)
-        view.farther_s[target] = state.farther_s.take(source)
+            mine[target] = theirs.take(order)
+        view.farther_s[target] = state.farther_s.take(order)
         _fill_single_holes(view)
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -167,9 +167,11 @@ class LevelMemory:
         ahead = view.ahead_s + dt
         ahead *= in_front
         settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
-        if not level:  # a tilted plane: the view only moves, and its clock stands still
-            current[settled] = ranges[settled]
+        if settled.size:
             ahead[settled] = 0.0
+        if not level:  # a tilted plane: the view only moves, and its clock stands still
+            if settled.size:
+                current[settled] = ranges.take(settled)
             self.state = LevelView(current, view.ages, ahead, view.farther_s)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
@@ -181,8 +183,8 @@ class LevelMemory:
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
         np.copyto(current, np.fmax(ranges, floor), where=valid & ~beyond)
         np.copyto(current, ranges, where=valid & take)
-        current[settled] = ranges[settled]
-        ahead[settled] = 0.0
+        if settled.size:
+            current[settled] = ranges.take(settled)
         current[no_return & take] = np.inf
         ages = view.ages + dt
         ages[valid | no_return] = 0.0
@@ -224,12 +226,15 @@ def _fill_single_holes(view: LevelView) -> None:
     if hole.size == 0 or hole.size == len(level):
         return
     # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
+    # (gathers by take: cheaper than indexing with arrays this small)
     left, right = hole - 1, hole + 1
     if right[-1] == len(level):  # holes are ascending: only the last can be beam n - 1
         right[-1] = 0
-    take_left = ~np.isnan(level[left]) & ~(level[right] < level[left])
+    on_left, on_right = level.take(left), level.take(right)
+    take_left = ~np.isnan(on_left) & ~(on_right < on_left)
     source = np.where(take_left, left, right)
-    fill = ~np.isnan(level[source])
-    hole, source = hole[fill], source[fill]
+    fill = indices(~np.isnan(level.take(source)))
+    if fill.size < hole.size:
+        hole, source = hole.take(fill), source.take(fill)
     for values in (level, view.ages, view.ahead_s, view.farther_s):
-        values[hole] = values[source]
+        values[hole] = values.take(source)

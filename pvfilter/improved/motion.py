@@ -126,24 +126,29 @@ def coarse_turn(
     the best of them is at the edge of that window are all shifts up to ``max_shift``
     tried, on every fourth beam.
     """
-    near = np.arange(expected - NEAR_SHIFTS, expected + NEAR_SHIFTS + 1)
-    best = _best_shift(ranges, previous, near, layout, 2)
+    best = _best_shift(ranges, previous, expected - NEAR_SHIFTS, 2 * NEAR_SHIFTS + 1, layout, 2)
     if abs(best - expected) < NEAR_SHIFTS:
         return best
-    best = _best_shift(ranges, previous, np.arange(-max_shift, max_shift + 1), layout, 4)
-    return _best_shift(ranges, previous, np.arange(best - 2, best + 3), layout, 1)
+    best = _best_shift(ranges, previous, -max_shift, 2 * max_shift + 1, layout, 4)
+    return _best_shift(ranges, previous, best - 2, 5, layout, 1)
 
 
 def _best_shift(
-    ranges: np.ndarray, previous: np.ndarray, shifts: np.ndarray, layout: BeamLayout, stride: int
+    ranges: np.ndarray,
+    previous: np.ndarray,
+    first: int,
+    count: int,
+    layout: BeamLayout,
+    stride: int,
 ) -> int:
-    """The shift with the least clipped range difference over every ``stride``-th beam."""
-    beams, source = layout.shift_table(int(shifts[0]), len(shifts), stride)
+    """Of the shifts ``first .. first + count - 1``, the one with the least clipped range
+    difference over every ``stride``-th beam."""
+    _, source = layout.shift_table(first, count, stride)
     values = previous if layout.ring else np.concatenate((previous, [np.nan]))  # -1: outside, NaN
     cost = values.take(source)
-    cost -= ranges.take(beams)
+    cost -= ranges[::stride]  # beams 0, stride, 2 stride, ...: the table's, as a view
     np.fmin(np.abs(cost, out=cost), CLIP_M, out=cost)
-    return int(shifts[np.add.reduce(cost, axis=1).argmin()])  # ties: the lowest shift
+    return first + int(np.add.reduce(cost, axis=1).argmin())  # ties: the lowest shift
 
 
 def prior_weights(spread: tuple[float, float]) -> tuple[float, float]:

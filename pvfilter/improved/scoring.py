@@ -105,10 +105,9 @@ def geometry_gates(
     segments: Segments, tilt: np.ndarray, time_increment: float, params: ImprovedParams
 ) -> np.ndarray:
     """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane."""
-    k = len(segments)
-    starts = segments.labels.searchsorted(np.arange(k))
-    ends = np.concatenate((starts[1:], [len(segments.labels)])) - 1
-    span_s = (segments.beams[ends] - segments.beams[starts]) * abs(time_increment)
+    bounds = segments.bounds
+    first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
+    span_s = (last - first) * abs(time_increment)
     distances = segments.distances
     return (
         segments.across
@@ -234,7 +233,7 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
     if lines.size == 0:
         return own
     points, line = spread_claims(segments, lines, params)
-    normals = segments.normals[line]
+    normals = segments.normals.take(line, axis=0)  # (take: cheaper than indexing rows)
     x, y = segments.points[:, 0].take(points), segments.points[:, 1].take(points)
     along = x * normals[:, 1] - y * normals[:, 0]
     k = len(segments)

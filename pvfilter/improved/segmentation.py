@@ -70,7 +70,8 @@ def _chord_directions(
     """
     m = len(points)
     at = np.arange(m)
-    first, after = np.concatenate(([0], ends)), np.concatenate((ends, [m]))
+    bounds = _bounds(ends, m)
+    first, after = bounds[:-1], bounds[1:]
     lengths = after - first
     low = np.maximum(at - half_width, first.repeat(lengths))
     high = np.minimum(at + half_width, (after - 1).repeat(lengths))
@@ -84,6 +85,15 @@ def _chord_directions(
     folded = indices(angle <= -0.5 * np.pi)
     angle[folded] += np.pi
     return angle
+
+
+def _bounds(cuts: np.ndarray, m: int) -> np.ndarray:
+    """``0``, the ``cuts``, then ``m``: the first index of every run and the end of the last
+    (np.concatenate with a list converts the list to an array first, at more cost)."""
+    bounds = np.empty(cuts.size + 2, dtype=np.intp)
+    bounds[0], bounds[-1] = 0, m
+    bounds[1:-1] = cuts
+    return bounds
 
 
 def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
@@ -104,14 +114,21 @@ def across_travel(directions: np.ndarray, line_angle_deg: float) -> np.ndarray:
     ``SINE_BAND_RAD`` of the bound's angle need the sine; the rest compare ``|direction|``
     with that angle, at a fraction of the sine's cost, and decide the same.
     """
-    bound = np.cos(np.radians(line_angle_deg))
-    angle = math.asin(bound)  # |direction| at the bound, rad
+    bound, angle = _sine_bound(line_angle_deg)
     size = np.abs(directions)
     across = size > angle + SINE_BAND_RAD
     near = indices((size >= angle - SINE_BAND_RAD) & ~across)
     if near.size:
         across[near] = np.abs(np.sin(directions.take(near))) > bound
     return across
+
+
+@functools.cache
+def _sine_bound(line_angle_deg: float) -> tuple[np.float64, float]:
+    """``cos(line_angle)`` (as numpy works it out from degrees) and the angle whose sine
+    it is, rad: the same two numbers for every scan, worked out once."""
+    bound = np.cos(np.radians(line_angle_deg))
+    return bound, math.asin(bound)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -147,6 +164,17 @@ class Segments:
         if "ranges" not in self.memo:
             self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
         return self.memo["ranges"]
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """Each segment's first point, then the number of points, ``(k + 1,)``: segment
+        ``i`` is points ``bounds[i] .. bounds[i + 1] - 1`` (kept in ``memo``: the
+        segmentation works it out)."""
+        if "bounds" not in self.memo:
+            bounds = np.zeros(len(self) + 1, dtype=np.intp)
+            np.cumsum(self.sizes, out=bounds[1:])
+            self.memo["bounds"] = bounds
+        return self.memo["bounds"]
 
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
@@ -220,14 +248,16 @@ def segment_scan(
     labels = np.zeros(m, dtype=np.intp)
     labels[cuts] = 1
     np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
-    starts = np.concatenate(([0], cuts))
+    bounds = _bounds(cuts, m)
+    starts = bounds[:-1]
     segments = Segments(
         beams=beams,
         points=points,
         labels=labels,
         directions=directions,
-        across=across[starts],
-        sizes=np.concatenate((cuts, [m])) - starts,
+        across=across.take(starts),
+        sizes=bounds[1:] - starts,
     )
     segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
+    segments.memo["bounds"] = bounds  # and Segments.bounds
     return segments

@@ -36,8 +36,7 @@ def deskew(
     """
     if _unskewed(layout, time_increment, velocity):
         return points
-    tau = layout.mid_scan_offsets() * time_increment  # s
-    return _turn_and_shift(points, tau, velocity, -1.0)
+    return _turn_and_shift(points, layout.mid_scan_times(time_increment), velocity, -1.0)
 
 
 def skew(
@@ -140,8 +139,11 @@ def move_xy(
     temporary would be thrown away (``a + b`` and ``b + a`` are the same float).
     """
     (increment_before, velocity_before), (increment_after, velocity_after) = before, after
-    tau = layout.mid_scan_offsets().take(beams)
-    tau *= increment_before  # s
+    if beams is layout.every_beam():  # (the level view moves every beam)
+        tau = layout.mid_scan_times(increment_before)  # s
+    else:
+        tau = layout.mid_scan_offsets().take(beams)
+        tau *= increment_before  # s
     # the point lands about theta / increment beams away from where it was seen (on a ring,
     # past the seam it is seen a scan period earlier or later)
     turn_beams = motion.theta_rad / layout.increment
