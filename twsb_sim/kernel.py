@@ -19,9 +19,13 @@ variable ``NUMBA_DISABLE_JIT=1`` the kernels run as plain Python (slowly), for d
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import TypeVar
 
 import numba
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+FIRST_COMPILE_NOTICE = "compiling the simulator's kernels, once on this machine (about 15 s)"
 
 F = TypeVar("F", bound=Callable[..., object])
 
@@ -29,3 +33,12 @@ F = TypeVar("F", bound=Callable[..., object])
 def kernel(function: F) -> F:
     """``function`` compiled by numba with the simulator's options (see the module)."""
     return numba.njit(cache=True, nogil=True, error_model="numpy")(function)
+
+
+def compiled_on_this_machine(package_dir: Path = PACKAGE_DIR) -> bool:
+    """Whether the kernels were compiled here before: numba's cache index of the ray cast
+    (the largest kernel) is beside its module. Where numba caches elsewhere
+    (``NUMBA_CACHE_DIR``) this cannot tell, and says so (True: no notice)."""
+    if numba.config.CACHE_DIR:
+        return True
+    return any((package_dir / "__pycache__").glob("ray_culling.*.nbi"))

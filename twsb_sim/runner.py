@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import time
 from collections.abc import Sequence
 from typing import Any
@@ -25,6 +26,7 @@ from twsb_sim.environment import check_rooms, house_extras, movers
 from twsb_sim.frame_filter import FrameFilter, as_frame_filter
 from twsb_sim.house import House, HouseExtras, SpawnPose, house_with
 from twsb_sim.house.standing import ROBOT_HEIGHT_M, why_cannot_stand
+from twsb_sim.kernel import FIRST_COMPILE_NOTICE, compiled_on_this_machine
 from twsb_sim.movers import MoverSet
 from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
@@ -157,6 +159,8 @@ def run_scenario(
         The run's summary.
     """
     seed = scenario.seed if seed is None else seed
+    if progress and not compiled_on_this_machine():  # the first frames wait for it
+        tqdm.write(FIRST_COMPILE_NOTICE, file=sys.stderr)
     sim = simulation_for(scenario, seed, collision_region)
     summary = RunSummary(scenario=scenario.name, seed=seed, house=sim.house.name)
     if scan_filter is not None:
