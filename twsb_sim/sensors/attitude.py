@@ -11,6 +11,11 @@ The accelerometer measures gravity *and* the robot's own acceleration, so brakin
 shoves bias the estimate, and the gyro's bias drifts it between: the errors of a real
 robot's estimate. Yaw is the gyro's integral alone (no magnetometer): it starts at 0.
 
+The filter initialises as a robot's does at power-up, at rest: from the first sample
+whose accelerometer measures about gravity (within ``REST_TOLERANCE``). A sample taken
+in free fall (a robot set down just above the floor) or in a bump tells nothing of the
+tilt; until the first sample at rest the estimate reads level.
+
 Angles follow the project's convention: roll positive left side up, pitch positive nose
 down (REP-103 rotations about x and y), yaw counter-clockwise.
 """
@@ -24,6 +29,9 @@ import numpy as np
 
 from twsb_sim.kernel import kernel
 from twsb_sim.sensors.checks import positive
+from twsb_sim.sensors.imu import STANDARD_GRAVITY_MPS2
+
+REST_TOLERANCE = 0.2  # share of g: a sample whose specific force is this near g starts it
 
 
 @dataclass(frozen=True)
@@ -70,11 +78,24 @@ class ComplementaryFilter:
         b = 1.0 - a
         roll_pull = b * np.arctan2(ay, az)  # gravity's direction, all at once (numpy's
         pitch_pull = b * np.arctan2(-ax, np.hypot(ay, az))  # arctan2, as it always was)
-        if self.rpy_rad is None:
-            start = (roll_pull[0] / b, pitch_pull[0] / b, 0.0)
-        else:
-            start = self.rpy_rad
-        out = _integrate(np.asarray(readings[:, :3]), roll_pull, pitch_pull, *start, a, dt)
+        if self.rpy_rad is not None:
+            out = _integrate(
+                np.asarray(readings[:, :3]), roll_pull, pitch_pull, *self.rpy_rad, a, dt
+            )
+            self.rpy_rad = tuple(out[-1].tolist())
+            return out
+        # not yet initialised: from the first sample at rest on (before it: level)
+        specific_force = np.sqrt(ax * ax + ay * ay + az * az)
+        at_rest = (
+            np.abs(specific_force - STANDARD_GRAVITY_MPS2) <= REST_TOLERANCE * STANDARD_GRAVITY_MPS2
+        )
+        out = np.zeros((len(readings), 3))
+        if not np.count_nonzero(at_rest):
+            return out
+        k = int(np.argmax(at_rest))
+        start = (roll_pull[k] / b, pitch_pull[k] / b, 0.0)
+        gyro = np.asarray(readings[k:, :3])
+        out[k:] = _integrate(gyro, roll_pull[k:], pitch_pull[k:], *start, a, dt)
         self.rpy_rad = tuple(out[-1].tolist())
         return out
 

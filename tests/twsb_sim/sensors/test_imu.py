@@ -99,6 +99,21 @@ def test_still_tilted_imu_settles_on_the_gravity_attitude_with_the_time_constant
     assert rpy[int(tau * rate), 1] == pytest.approx(pitch * (1 - math.exp(-1)), rel=0.01)
 
 
+def test_the_filter_starts_at_rest_not_from_a_sample_in_free_fall():
+    # a robot set down just above the floor measures no gravity for a moment: its tilt
+    # from that sample is noise (here 53 deg of roll); the filter starts from the first
+    # sample that measures about g, and reads level until then
+    f = ComplementaryFilter(AttitudeFilterConfig(), 1.0 / 200.0)
+    roll, pitch = math.radians(1.0), math.radians(-2.0)
+    falling = np.array([[0.0, 0.0, 0.0, -0.04, 0.12, 0.09]] * 2)
+    resting = np.tile(np.r_[0.0, 0.0, 0.0, _gravity(roll, pitch)], (3, 1))
+    rpy = f.update(np.concatenate((falling, resting)))
+    np.testing.assert_array_equal(rpy[:2], 0.0)
+    np.testing.assert_allclose(rpy[2:, :2], [[roll, pitch]] * 3, atol=1e-12)
+    # once started it follows every sample, a free-falling one too
+    assert f.update(falling)[0, 0] != pytest.approx(roll)
+
+
 def test_consistent_rotation_is_tracked_and_yaw_integrates_the_gyro():
     dt = 0.005  # s, 200 Hz
     f = ComplementaryFilter(AttitudeFilterConfig(time_constant_s=0.3), dt)
