@@ -171,9 +171,7 @@ class EgoMotion:
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges)
 
-    def coast(
-        self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None = None
-    ) -> Match:
+    def coast(self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
         stays the reference, and the motion since is what the prior expected.
 
@@ -181,7 +179,7 @@ class EgoMotion:
             match: the failed match (its step: the prior's).
             tilt_rad: the scan's tilt, rad.
             dt: the time since the previous scan, s.
-            pose: the odometry pose now (None: none); the next prior is the odometry's step
+            pose: the odometry pose now (None: no odometry); the next prior is the odometry's step
                 from here, as the coasted motion already holds the steps up to here.
         """
         self.since_reference = self.since_reference.then(match.step)

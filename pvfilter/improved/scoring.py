@@ -178,8 +178,8 @@ def score_segments(
     # the scan's evidence against a floor line: it stayed put in the world, or returns lie
     # beyond it; asked of every gated segment the IMU may support, else of the scored ones
     asked = gates if attitude is not None else score > 0.0
-    stayed, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
-    score *= stayed
+    not_static, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
+    score *= not_static
     score[beyond] *= params.up_side_weight
     down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
     if down != 0 and params.up_side_weight < 1.0:
@@ -193,7 +193,7 @@ def score_segments(
         agree, beyond, contradict = _imu_agreement(segments, side, tilt, attitude, params)
         contradicted = bool((beyond & (scan_score > params.p_th)).any())
         # where the floor may be, unless the scan's own evidence says it is not
-        support = IMU_SUPPORT * stayed
+        support = IMU_SUPPORT * not_static
         support[beyond] *= params.up_side_weight
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - support), score)
         score[contradict] *= params.up_side_weight
@@ -259,10 +259,10 @@ def _evidence_against(
         it (:func:`pvfilter.improved.geometry.seen_beyond`: nothing lies beyond a floor
         line, so they show a wall beside open space).
     """
-    stayed = np.ones(len(segments))
+    not_static = np.ones(len(segments))
     if static is not None and np.count_nonzero(asked):
-        stayed -= _world_static_share(segments, asked, static, tilt, params)
-    return stayed, seen_beyond(segments, asked, tilt, time_increment, params)
+        not_static -= _world_static_share(segments, asked, static, tilt, params)
+    return not_static, seen_beyond(segments, asked, tilt, time_increment, params)
 
 
 def _world_static_share(

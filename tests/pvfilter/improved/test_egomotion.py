@@ -98,7 +98,7 @@ def test_coasting_keeps_the_reference_and_carries_the_prior():
     reference = ego.reference
     failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
                        (Motion(0.0, -0.05, 0.0), (0.01, 0.03)), False, None)  # fmt: skip
-    coasted = ego.coast(failed, 0.0, 0.1)
+    coasted = ego.coast(failed, 0.0, 0.1, None)
     assert coasted.trusted and coasted.step == Motion(0.0, -0.05, 0.0)
     assert ego.reference is reference and ego.since_reference.tx_m == -0.05
     # the next scan, 5 cm on again, is matched against the old reference: 10 cm
@@ -133,7 +133,7 @@ def test_a_turn_that_carried_on_while_coasting_is_found_against_the_old_referenc
     for _ in range(2):
         failed = ego.match(layout, np.full_like(points, np.nan), segments, DT,
                            (Motion(), (0.01, 0.03)), False, None)  # fmt: skip
-        ego.coast(failed, 0.0, DT)
+        ego.coast(failed, 0.0, DT, None)
     turned, _ = tilted_scan(pose=(0.0, 0.0, math.radians(33.0)), walls=room)
     layout, points, segments = prepared(turned)
     found = ego.match(layout, points, segments, DT, (Motion(), (0.01, 0.03)), False, None)
