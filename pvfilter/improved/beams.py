@@ -141,6 +141,8 @@ class BeamLayout:
                 self._remember(key, (np.arange(self.count) - shift) % self.count)
             return values.take(self._tables[key], axis=0)
         moved = np.full(values.shape, np.nan)
+        if abs(shift) >= len(values):  # turned past every beam: none is seen again
+            return moved
         if shift >= 0:
             moved[shift:] = values[: len(values) - shift]
         else:

@@ -111,10 +111,17 @@ def motion_of(
 
 
 def odometry_motion(previous: np.ndarray, current: np.ndarray) -> Motion:
-    """The motion between two odometry poses of the sensor ``(x, y, yaw)`` (REP-105)."""
+    """The motion between two odometry poses of the sensor ``(x, y, yaw)`` (REP-105).
+
+    The turn is the yaw difference wrapped to ``[-pi, pi]``: odometry reports yaw wrapped
+    (ROS to ``(-pi, pi]``), so a robot turning through pi would otherwise read a turn
+    of nearly a whole revolution, which points the scan match's turn search a full
+    revolution off (and a beam shift past every beam of the scan).
+    """
     dx, dy = previous[0] - current[0], previous[1] - current[1]
     c, s = math.cos(current[2]), math.sin(current[2])
-    return Motion(previous[2] - current[2], c * dx + s * dy, -s * dx + c * dy)
+    turn = math.remainder(previous[2] - current[2], math.tau)
+    return Motion(turn, c * dx + s * dy, -s * dx + c * dy)
 
 
 def coarse_turn(

@@ -236,3 +236,22 @@ def test_roll_without_pitch_and_bad_attitudes_are_refused():
         pvf.process(scan, roll_rad=0.1)
     with pytest.raises(ValueError, match="pitch_rad"):
         pvf.process(scan, pitch_rad=float("nan"))
+
+
+def test_odometry_whose_yaw_wraps_through_pi_filters_as_unwrapped_odometry():
+    # the robot turns in place through yaw pi during a pitch event; REP-105 odometry
+    # reports the yaw wrapped to (-pi, pi]
+    pitch = pitch_event(6, 8, 8.0)
+    yaw = math.pi - 0.3 + 0.04 * np.arange(20)  # 0.4 rad/s
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    unwrapped = ImprovedPitchVariationFilter(params)
+    wrapped = ImprovedPitchVariationFilter(params)
+    found = floor = 0
+    for k in range(len(yaw)):
+        scan, on_floor = room_scan((0.2, 0.1, yaw[k]), pitch(k), stamp=0.1 * k, seed=k)
+        expected = unwrapped.process(scan, pose_sensor_in_odom=(0.2, 0.1, yaw[k]))
+        wrapped_yaw = math.remainder(yaw[k], math.tau)
+        result = wrapped.process(scan, pose_sensor_in_odom=(0.2, 0.1, wrapped_yaw))
+        assert np.array_equal(result.removed, expected.removed), k
+        found, floor = found + (result.removed & on_floor).sum(), floor + on_floor.sum()
+    assert found >= 0.8 * floor

@@ -86,6 +86,29 @@ def test_odometry_poses_give_the_motion_of_static_points():
     assert (motion.theta_rad, motion.tx_m, motion.ty_m) == pytest.approx((0.0, -1.0, 0.0))
 
 
+def test_odometry_yaw_wrapping_through_pi_reads_the_small_turn_it_was():
+    # REP-105 odometry reports yaw in (-pi, pi]: turning 0.1 rad left through pi jumps
+    # from pi - 0.05 to -pi + 0.05, the same turn as the unwrapped pi + 0.05
+    before = np.array([1.0, -2.0, math.pi - 0.05])
+    wrapped = before + np.array([0.1, 0.2, 0.1 - math.tau])
+    unwrapped = before + np.array([0.1, 0.2, 0.1])
+    motion = odometry_motion(before, wrapped)
+    expected = odometry_motion(before, unwrapped)
+    assert motion.theta_rad == pytest.approx(-0.1)
+    assert (motion.tx_m, motion.ty_m) == pytest.approx((expected.tx_m, expected.ty_m))
+
+
+def test_a_shift_past_every_beam_leaves_none_of_a_partial_scan():
+    # a 90-beam, 90 deg scan turned by more than its field of view sees none of its beams
+    # again (a ring would wrap instead)
+    angles = np.radians(np.arange(90.0))
+    layout = BeamLayout(90, 0.0, math.radians(1.0), np.cos(angles), np.sin(angles), False)
+    values = np.arange(90.0)
+    for shift in (90, 100, 179, -90, -100, -179):
+        assert np.isnan(layout.shifted(values, shift)).all(), shift
+    assert layout.shifted(values, 89)[89] == 0.0 and np.isnan(layout.shifted(values, 89)[:89]).all()
+
+
 def test_too_few_pairs_return_the_prior():
     before, _ = room_scan()
     layout, previous, _ = inputs(before)
