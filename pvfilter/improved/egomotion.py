@@ -49,6 +49,8 @@ STEADY_SHIFT_M = 0.03  # m: how much the translation may change in one step
 MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted
 ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is not trusted
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
+ODOM_AGREEMENT_SCANS = 10  # scans: the memory of the odometry's agreement with the matches
+# (an exponential average over about this many trusted matches)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,6 +80,10 @@ class EgoMotion:
 
     def __init__(self, params: ImprovedParams) -> None:
         self.params = params
+        # the mean square of the odometry's turn error against trusted matches, in units
+        # of its spread (a property of the robot, kept through re-baselines); it starts
+        # as unproven, above 1
+        self.odometry_disagreement = 2.0
         self.reset()
 
     def reset(self) -> None:
@@ -167,9 +173,24 @@ class EgoMotion:
             off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
             trusted &= off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
             trusted &= off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+            if trusted and self.coasted_s == 0.0:
+                self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges)
+
+    def _odometry_agrees(self, turn_error: float) -> None:
+        """Average in one trusted match's turn error against the odometry, in spreads."""
+        weight = 1.0 / ODOM_AGREEMENT_SCANS
+        self.odometry_disagreement += weight * (turn_error**2 - self.odometry_disagreement)
+
+    @property
+    def odometry_proven(self) -> bool:
+        """The odometry has turned as the scans did, within its spread: its turn errors
+        against the recent trusted matches are no larger than the spread says (a mean
+        square of at most 1). A two-wheeled robot's odometry is; a skid-steer rover's,
+        whose wheels slide in every turn, is not."""
+        return self.odometry_disagreement <= 1.0
 
     def coast(self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan

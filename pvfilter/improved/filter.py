@@ -162,9 +162,10 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
     ) -> tuple[Match, bool, bool]:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior: in a pitch event (the last scan was tilted) a match that cannot be trusted
-        lets the prior carry on until a scan matches again, otherwise the filter
-        re-baselines and the scan removes nothing."""
+        prior: in a pitch event (the last scan was tilted), or on wheel odometry that has
+        proven itself, a match that cannot be trusted lets the prior carry on until a
+        scan matches again; otherwise the filter re-baselines and the scan removes
+        nothing."""
         if fresh:
             self._rebaseline()
             return Match(Motion(), True), True, False
@@ -172,7 +173,12 @@ class ImprovedPitchVariationFilter:
         match = self._ego.match(
             self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
         )
-        coast = not match.trusted and 0.0 < self._tilted_s <= self.params.max_event_s
+        # a failed match in a pitch event coasts; so does one in a level scan on wheel
+        # odometry that has proven itself (the first tilted scan of an event fails its
+        # match before the filter knows the event began)
+        proven = pose is not None and self._ego.odometry_proven and self._ego.reference is not None
+        event = 0.0 < self._tilted_s or proven
+        coast = not match.trusted and event and self._tilted_s <= self.params.max_event_s
         fresh = not match.trusted and not coast
         if fresh:
             self._rebaseline()

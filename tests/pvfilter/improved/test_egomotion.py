@@ -152,3 +152,21 @@ def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():
     assert found.trusted and found.step.translation_m < 0.005
     # with odometry the prior is a measurement: a match far from it stays untrusted
     assert not ego.match(layout, points, segments, DT, wrong, True, None).trusted
+
+
+@pytest.mark.parametrize(("turn_noise_deg", "proven"), [(0.0, True), (1.5, False)])
+def test_odometry_proves_itself_by_turning_as_the_scans_do(turn_noise_deg, proven):
+    # a two-wheeled robot's odometry turns as the scans do; a skid-steer rover's slides
+    # by degrees in every step: only the first may carry a level scan whose match failed
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego = EgoMotion(PARAMS)
+    assert not ego.odometry_proven  # unproven until matches have agreed with it
+    rng = np.random.default_rng(1)
+    for k in range(30):
+        yaw = math.radians(2.0) * k
+        scan, _ = tilted_scan((0.03 * k, 0.0, yaw), walls=room, stamp=DT * k)
+        layout, points, segments = prepared(scan)
+        pose = np.array([0.03 * k, 0.0, yaw + math.radians(turn_noise_deg) * rng.standard_normal()])
+        match = ego.match(layout, points, segments, DT, ego.prior(DT, pose), True, None)
+        ego.commit(points, np.zeros(len(scan), bool), match, 0.0, DT, pose)
+    assert ego.odometry_proven is proven

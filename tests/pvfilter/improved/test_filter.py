@@ -255,3 +255,37 @@ def test_odometry_whose_yaw_wraps_through_pi_filters_as_unwrapped_odometry():
         assert np.array_equal(result.removed, expected.removed), k
         found, floor = found + (result.removed & on_floor).sum(), floor + on_floor.sum()
     assert found >= 0.8 * floor
+
+
+@pytest.mark.parametrize(("turn_noise_rad", "kept"), [(0.0, True), (0.03, False)])
+def test_proven_odometry_carries_the_view_past_a_level_scan_whose_match_failed(
+    turn_noise_rad, kept
+):
+    # the robot drives and turns; the scan that starts a pitch event is too noisy to
+    # match (as the first tilted scan of a hard stop often is: its walls are stretched).
+    # Odometry that has turned as the scans did carries the level view through it, and
+    # the event's floor line is removed; odometry whose turns slide (a skid-steer rover)
+    # cannot: the filter re-baselines, and keeps every beam
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    rng = np.random.default_rng(0)
+    found = floor = false_alarms = 0
+    for k in range(18):
+        pitch = math.radians(12.0) if k >= 14 else 0.0
+        pose = (-1.0 + 0.05 * k, 0.0, 0.02 * k)
+        scan, hit = tilted_scan(pose, pitch, stamp=0.1 * k)
+        if k == 14:
+            noisy = scan.ranges + 0.1 * rng.standard_normal(len(scan))
+            scan = dataclasses.replace(scan, ranges=noisy)
+        yaw = pose[2] + (turn_noise_rad * rng.standard_normal() if k else 0.0)
+        result = pvf.process(scan, pose_sensor_in_odom=(pose[0], pose[1], yaw))
+        if k > 14:
+            on_floor = hit == 2
+            found += (result.removed & on_floor).sum()
+            floor += on_floor.sum()
+            false_alarms += (result.removed & ~on_floor).sum()
+    if kept:
+        assert found >= 0.95 * floor
+        assert false_alarms <= 0.02 * floor  # where the floor line meets the walls
+    else:
+        assert found == 0
