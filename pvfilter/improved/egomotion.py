@@ -49,6 +49,8 @@ STEADY_SHIFT_M = 0.03  # m: how much the translation may change in one step
 MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted
 ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is not trusted
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
+MIN_REFERENCE_POINTS = MIN_PAIRS  # a scan with fewer points left to match against
+# (its new returns and candidate lines left out) does not replace the reference
 ODOM_AGREEMENT_SCANS = 10  # scans: the memory of the odometry's agreement with the matches
 # (an exponential average over about this many trusted matches)
 
@@ -203,11 +205,15 @@ class EgoMotion:
             pose: the odometry pose now (None: no odometry); the next prior is the odometry's step
                 from here, as the coasted motion already holds the steps up to here.
         """
-        self.since_reference = self.since_reference.then(match.step)
+        self._carry(match.step, tilt_rad, dt, pose)
+        return dataclasses.replace(match, trusted=True)
+
+    def _carry(self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None) -> None:
+        """Keep the reference and add ``step`` to the motion since it."""
+        self.since_reference = self.since_reference.then(step)
         self.coasted_s += dt
         self.tilt = tilt_rad
         self.pose = pose
-        return dataclasses.replace(match, trusted=True)
 
     def commit(
         self,
@@ -219,7 +225,21 @@ class EgoMotion:
         pose: np.ndarray | None,
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
-        beams (new, candidate lines) never take part in a match."""
+        beams (new, candidate lines) never take part in a match.
+
+        A scan with fewer than ``MIN_REFERENCE_POINTS`` points left once those are out
+        (in a hall beyond the scanner's range, a pitched scan can be all floor and
+        ceiling) keeps the previous reference, with this scan's measured step added to
+        the motion since it: a reference with nothing to match would fail every match
+        after it, until the filter re-baselines and loses its level view.
+        """
+        if match.trusted and self.reference is not None:
+            left = np.count_nonzero((points[:, 0] == points[:, 0]) & ~moving)  # NaN: none
+            if left < MIN_REFERENCE_POINTS:
+                self._carry(match.step, tilt_rad, dt, pose)
+                if dt > 0.0:
+                    self.velocity = match.step.scaled(1.0 / dt)
+                return
         reference = unstretch(points, tilt_rad)
         reference = reference.copy() if reference is points else reference
         moving = indices(moving)

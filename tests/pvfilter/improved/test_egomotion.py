@@ -170,3 +170,28 @@ def test_odometry_proves_itself_by_turning_as_the_scans_do(turn_noise_deg, prove
         match = ego.match(layout, points, segments, DT, ego.prior(DT, pose), True, None)
         ego.commit(points, np.zeros(len(scan), bool), match, 0.0, DT, pose)
     assert ego.odometry_proven is proven
+
+
+def test_a_scan_with_nothing_left_to_match_does_not_replace_the_reference():
+    # in a hall beyond the scanner's range a pitched scan can be all floor and ceiling:
+    # with its new returns and candidate lines left out nothing is left to match later
+    # scans against, so the previous reference stays and the measured step is carried
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego, layout, points, segments = started(room)
+    reference = ego.reference
+    moved, _ = tilted_scan(pose=(0.05, 0.0, 0.0), walls=room)
+    layout, points, segments = prepared(moved)
+    prior = (Motion(0.0, -0.05, 0.0), (0.01, 0.03))
+    match = ego.match(layout, points, segments, DT, prior, False, None)
+    assert match.trusted
+    ego.commit(points, np.ones(len(moved), bool), match, 0.0, DT, None)  # every beam moving
+    assert ego.reference is reference
+    assert ego.since_reference.tx_m == pytest.approx(-0.05, abs=0.005)
+    # the next scan, 5 cm on again, is matched against the old reference
+    after, _ = tilted_scan(pose=(0.1, 0.0, 0.0), walls=room)
+    layout, points, segments = prepared(after)
+    found = ego.match(layout, points, segments, DT, prior, False, None)
+    assert found.trusted and found.step.tx_m == pytest.approx(-0.05, abs=0.005)
+    # a scan with enough left replaces it as before
+    ego.commit(points, np.zeros(len(after), bool), found, 0.0, DT, None)
+    assert ego.reference is not reference and ego.since_reference == Motion()
