@@ -23,6 +23,20 @@ and the correction is taken only when both hold:
 A floor line in front of a wall parallel to it fits a correction that moves the wall
 onto the line, but that correction explains no return seen through the view: it is left
 alone, and the line stays new.
+
+The registration pairs the scan with the view within ``ASSOCIATION_M``. Where the scans
+could not see the travel (floor and ceiling lines hide the walls ahead and behind, and
+without wheel odometry the dead reckoning guesses it), the view can be off by more along
+the sensor's x axis: a 5 Hz scanner in a corridor, a hard stop from 1 m/s. Then the view
+is first searched along x (:func:`offset_along_x`: the shift, up to ``SEARCH_SPAN_M``,
+that puts the most of the scan's returns on it), and registered from there with the
+narrower ``REFINE_ASSOCIATION_M``. Such a correction is taken on the same two
+conditions and a third (:func:`explains_both_ends`): it puts more returns on the view
+both ahead of the sensor and behind it. A view left off by unseen travel is off at both
+ends; a shift that moves the wall ahead onto a floor line helps on that side only.
+With wheel odometry the travel is measured, and an IMU that shows the plane tilted says
+that a line ahead is more likely a floor line than a wall the view lost: the filter does
+not search then.
 """
 
 from __future__ import annotations
@@ -38,6 +52,10 @@ ASSOCIATION_M = 0.5  # m: the largest view error a pitch event leaves (pairs far
 SPREAD = (0.05, 0.5)  # (rad, m): the prior's spread; the registration starts from no
 # correction and may move about as far as ASSOCIATION_M
 MIN_GAIN = 0.2  # share: a correction must put this many more returns on the view
+SEARCH_SPAN_M = 1.0  # m: the largest view error along x searched for (the unseen travel
+# of a pitch event: a hard stop from 1 m/s, or its constant-velocity guess, in a second)
+SEARCH_STEP_M = 0.1  # m: the search's step (the registration from it reaches twice that)
+REFINE_ASSOCIATION_M = 0.2  # m: the registration's association from the search's shift
 
 
 def register_view(
@@ -45,6 +63,8 @@ def register_view(
     directions: np.ndarray,
     view_ranges: np.ndarray,
     layout: BeamLayout,
+    start: Motion = STILL,
+    association_m: float = ASSOCIATION_M,
 ) -> Motion | None:
     """The correction that moves the level view onto the scan, or None (no usable fit).
 
@@ -54,6 +74,8 @@ def register_view(
         directions: the local line direction per beam, rad (NaN: none).
         view_ranges: the level view in this scan's frame, m (NaN unknown, ``+inf`` free).
         layout: the beams.
+        start: the correction the fit starts from (no correction, or a search's shift).
+        association_m: pairs farther apart than this from ``start`` take no part, m.
 
     Returns:
         The motion that takes a point of the view to where the scan sees it (the
@@ -66,8 +88,8 @@ def register_view(
         layout.points(known),
         layout,
         0,
-        ASSOCIATION_M,
-        STILL,
+        association_m,
+        start,
         SPREAD,
     )
     if correction.pairs < MIN_PAIRS or not correction.residual_m <= MAX_RESIDUAL_M:
@@ -91,3 +113,48 @@ def explains_view_error(
     through_before = np.count_nonzero(gaps_before < -margin)
     through_after = np.count_nonzero(gaps_after < -margin)
     return on_after > (1.0 + MIN_GAIN) * on_before and through_before - through_after >= MIN_PAIRS
+
+
+def offset_along_x(
+    level_ranges: np.ndarray, view_ranges: np.ndarray, layout: BeamLayout
+) -> Motion | None:
+    """The shift of the view along the sensor's x axis, within ``SEARCH_SPAN_M``, that puts
+    the most of the scan's returns on it (within half a ``SEARCH_STEP_M``, so that the
+    best shift stands out), where it is farther from no shift than the registration's
+    own reach; else None.
+
+    Each shift moves the view's points and reads the scan's range on the beam each lands
+    on: one pass over every shift at once, on the view's points.
+    """
+    # only returns across the x axis tell a shift along it (a wall along it looks the same)
+    telling = np.isfinite(view_ranges) & (np.abs(layout.cos) > 0.5)
+    view = layout.points(np.where(telling, view_ranges, np.nan))[telling]
+    shifts = np.arange(-SEARCH_SPAN_M, SEARCH_SPAN_M + 0.5 * SEARCH_STEP_M, SEARCH_STEP_M)
+    x = view[:, 0] + shifts[:, None]  # (shifts, points)
+    y = np.broadcast_to(view[:, 1], x.shape)
+    beams = layout.beam_at(x.ravel(), y.ravel()).reshape(x.shape)
+    seen = np.append(level_ranges, np.nan).take(beams)  # beam -1 (outside the scan): NaN
+    on_view = np.abs(seen - np.hypot(x, y)) <= 0.5 * SEARCH_STEP_M  # NaN compares False
+    best = int(np.count_nonzero(on_view, axis=1).argmax())
+    if abs(shifts[best]) < 0.5 * ASSOCIATION_M:  # the registration from no shift reaches it
+        return None
+    return Motion(0.0, float(shifts[best]), 0.0)
+
+
+def explains_both_ends(
+    gaps_before: np.ndarray, gaps_after: np.ndarray, margin: np.ndarray, layout: BeamLayout
+) -> bool:
+    """A shift along x puts more returns on the view both ahead and behind the sensor.
+
+    A view left off by unseen travel is off at both ends: the walls ahead and behind
+    come onto it together. A shift that moves a wall onto a floor line helps on the
+    line's side only.
+
+    Args as :func:`explains_view_error`, and the beams.
+    """
+    on_before = np.abs(gaps_before) <= margin  # NaN compares False
+    on_after = np.abs(gaps_after) <= margin
+    for side in (layout.cos > 0.5, layout.cos < -0.5):
+        if np.count_nonzero(on_after & side) - np.count_nonzero(on_before & side) < MIN_PAIRS // 2:
+            return False
+    return True

@@ -21,7 +21,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pvfilter.contract import check_attitude, check_pose
-from pvfilter.improved.anchor import explains_view_error, register_view
+from pvfilter.improved.anchor import (
+    REFINE_ASSOCIATION_M,
+    explains_both_ends,
+    explains_view_error,
+    offset_along_x,
+    register_view,
+)
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import EgoMotion, Match
@@ -122,8 +128,20 @@ class ImprovedPitchVariationFilter:
         level_ranges = match.ranges
         if level_ranges is None:
             level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
+        # travel the scans may not have seen can leave the view off along x beyond the
+        # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
+        # tilted (a floor line then lies where a search would put a wall)
+        unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
         new, through, view, static = self._evidence(
-            scan, ranges, level_ranges, directions, match.step, velocity, fresh, blind
+            scan,
+            ranges,
+            level_ranges,
+            directions,
+            match.step,
+            velocity,
+            fresh,
+            blind,
+            unseen_travel,
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
@@ -224,6 +242,7 @@ class ImprovedPitchVariationFilter:
         velocity: Motion,
         fresh: bool,
         blind: bool,
+        unseen_travel: bool,
     ) -> tuple[np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None]:
         """New returns (in front of the level view moved into this scan's frame), returns
         seen through it (None where no return is new: no share of new returns is worked
@@ -253,7 +272,7 @@ class ImprovedPitchVariationFilter:
         )
         if params.reanchor_view and drift:
             anchored = self._reanchor(
-                scan, ranges, level_ranges, directions, view, gaps, step, velocity
+                scan, ranges, level_ranges, directions, view, gaps, step, velocity, unseen_travel
             )
             if anchored is not None:
                 view, gaps = anchored
@@ -283,22 +302,45 @@ class ImprovedPitchVariationFilter:
         gaps: np.ndarray,
         step: Motion,
         velocity: Motion,
+        unseen_travel: bool,
     ) -> tuple[LevelView, np.ndarray] | None:
         """The level view registered against the scan, and its gaps, where the correction
         explains returns seen through the view (:mod:`pvfilter.improved.anchor`); None:
-        the view stands. The memory takes the corrected view in with the scan."""
+        the view stands. The memory takes the corrected view in with the scan. Where that
+        fails and ``unseen_travel`` may have left the view off along x, the registration
+        starts again from a search along x."""
         layout, params = self._layout, self.params
-        correction = register_view(level_ranges, directions, view.ranges, layout)
-        if correction is None:
-            return None
-        moved = self._memory.view(
-            layout, scan.range_max, step.then(correction), velocity, scan.time_increment, params
-        )
-        moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
         margin = params.free_margin_m + params.free_margin_rel * ranges
-        if not explains_view_error(gaps, moved_gaps, margin):
+
+        def moved_if_explained(correction: Motion | None, both_ends: bool):
+            """The view moved by ``correction`` and its gaps, if that explains returns
+            seen through it (and, ``both_ends``, puts more returns on it ahead and
+            behind)."""
+            if correction is None:
+                return None
+            moved = self._memory.view(
+                layout, scan.range_max, step.then(correction), velocity, scan.time_increment,
+                params,
+            )  # fmt: skip
+            moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
+            if not explains_view_error(gaps, moved_gaps, margin):
+                return None
+            if both_ends and not explains_both_ends(gaps, moved_gaps, margin, layout):
+                return None
+            return moved, moved_gaps
+
+        anchored = moved_if_explained(
+            register_view(level_ranges, directions, view.ranges, layout), False
+        )
+        if anchored is not None or not unseen_travel:
+            return anchored
+        shift = offset_along_x(level_ranges, view.ranges, layout)
+        if shift is None:
             return None
-        return moved, moved_gaps
+        correction = register_view(
+            level_ranges, directions, view.ranges, layout, shift, REFINE_ASSOCIATION_M
+        )
+        return moved_if_explained(correction, True)
 
     @staticmethod
     def _tilt(detection: LineDetection, attitude: Attitude | None) -> float:

@@ -4,6 +4,7 @@ import dataclasses
 import math
 
 import numpy as np
+import pytest
 
 from pvfilter.improved import (
     BeamLayout,
@@ -12,7 +13,13 @@ from pvfilter.improved import (
     LevelMemory,
     Motion,
 )
-from pvfilter.improved.anchor import explains_view_error, register_view
+from pvfilter.improved.anchor import (
+    REFINE_ASSOCIATION_M,
+    explains_both_ends,
+    explains_view_error,
+    offset_along_x,
+    register_view,
+)
 from pvfilter.improved.evidence import free_space_gaps
 from pvfilter.improved.motion import STILL
 
@@ -103,3 +110,67 @@ def test_the_filter_puts_a_drifted_view_back_on_the_walls():
         known = np.isfinite(view) & np.isfinite(ranges)
         on_walls = np.mean(np.abs(view[known] - ranges[known]) < 0.05) > 0.9
         assert on_walls == expected_on_walls, reanchor_view
+
+
+FAR_DRIFT = (0.7, 0.0, 0.0)  # m, m, rad: travel along x the scans did not see (> 0.5 m)
+
+
+def test_a_view_off_along_x_beyond_the_registrations_reach_is_found_by_the_search():
+    drifted, _ = room_scan(FAR_DRIFT, noise_m=0.0)
+    scan, _ = room_scan(noise_m=0.005, seed=1)
+    layout = BeamLayout.of(scan)
+    ranges, directions, view = ranges_of(scan), directions_of(scan), view_of(drifted)
+    margin = margin_of(scan)
+    before = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
+    # from no correction the registration does not get there
+    near = register_view(ranges, directions, view.ranges, layout)
+    assert near is None or abs(near.tx_m - FAR_DRIFT[0]) > 0.1
+    shift = offset_along_x(ranges, view.ranges, layout)
+    assert shift is not None and abs(shift.tx_m - FAR_DRIFT[0]) <= 0.05
+    correction = register_view(ranges, directions, view.ranges, layout, shift, REFINE_ASSOCIATION_M)
+    assert correction is not None and abs(correction.tx_m - FAR_DRIFT[0]) < 0.01
+    after = free_space_gaps(ranges, view_of(drifted, correction).ranges, layout, scan.range_max)
+    assert explains_view_error(before, after, margin)
+    assert explains_both_ends(before, after, margin, layout)
+    # with no drift there is nothing to search for
+    level = view_of(room_scan(noise_m=0.0)[0])
+    assert offset_along_x(ranges, level.ranges, layout) is None
+
+
+def test_a_shift_that_moves_the_wall_ahead_onto_a_floor_line_helps_on_one_side_only():
+    # the floor line 0.6 m in front of the wall ahead (at 4 m): shifting the view 0.6 m
+    # puts the line on the view's wall, and takes the wall behind off the view
+    floor_at = 3.4  # m
+    pitched, on_floor = room_scan(pitch_rad=math.asin(HEIGHT_M / floor_at), noise_m=0.005, seed=2)
+    layout = BeamLayout.of(pitched)
+    level = room_scan(noise_m=0.0)[0]
+    ranges, view = ranges_of(pitched), view_of(level)
+    onto_line = Motion(0.0, floor_at - 4.0, 0.0)
+    before = free_space_gaps(ranges, view.ranges, layout, pitched.range_max)
+    after = free_space_gaps(ranges, view_of(level, onto_line).ranges, layout, pitched.range_max)
+    margin = margin_of(pitched)
+    ahead = layout.cos > 0.5
+    assert on_floor.sum() > 50
+    assert (np.abs(after[ahead]) <= margin[ahead]).sum() > (
+        np.abs(before[ahead]) <= margin[ahead]
+    ).sum()
+    assert not explains_both_ends(before, after, margin, layout)
+
+
+@pytest.mark.parametrize(("odometry", "corrected"), [(False, True), (True, False)])
+def test_the_filter_searches_along_x_only_where_the_travel_went_unmeasured(odometry, corrected):
+    # the view drifted 0.7 m along x; without odometry the travel went unseen and the
+    # search puts the view back; with odometry the travel was measured, and the view
+    # stands (the re-anchoring's own reach is 0.5 m)
+    pvf = ImprovedPitchVariationFilter(PARAMS)
+    pose = (0.0, 0.0, 0.0) if odometry else None
+    for k in range(5):
+        pvf.process(room_scan(stamp=0.1 * k, seed=k)[0], pose_sensor_in_odom=pose)
+    drifted = view_of(room_scan(FAR_DRIFT, noise_m=0.0)[0])
+    pvf._memory.state = dataclasses.replace(pvf._memory.state, ranges=drifted.ranges)
+    scan, _ = room_scan(stamp=0.5, seed=5)
+    pvf.process(scan, pose_sensor_in_odom=pose)
+    view, ranges = pvf._memory.state.ranges, ranges_of(scan)
+    known = np.isfinite(view) & np.isfinite(ranges)
+    on_walls = np.mean(np.abs(view[known] - ranges[known]) < 0.05) > 0.9
+    assert on_walls == corrected
