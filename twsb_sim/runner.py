@@ -32,6 +32,7 @@ from twsb_sim.scenario import HouseChoice, Scenario
 from twsb_sim.simulation import Shove as ActiveShove
 from twsb_sim.simulation import Simulation
 from twsb_sim.sinks import FrameSink
+from twsb_sim.stopping import stop_within
 from twsb_sim.summary import RunSummary
 from twsb_sim.timeline import heading_force_to_world, phase_at, sample_commands
 
@@ -172,8 +173,9 @@ def run_scenario(
     bar = tqdm(total=n_frames, desc=scenario.name, unit="frame", disable=not progress, leave=False)
     try:
         _simulate(scenario, sim, scan_filter, sinks, summary, bar)
-    except KeyboardInterrupt:
-        summary.end_reason = "interrupted"
+    except BaseException as error:
+        if stop_within(error) is not None:  # a Ctrl-C or SIGTERM, perhaps wrapped
+            summary.end_reason = "interrupted"
         raise
     finally:
         bar.close()

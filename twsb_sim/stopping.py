@@ -8,6 +8,10 @@ run to the end and exit 0 as if it had never been stopped. So the stop is also r
 here, where it cannot be lost: :func:`stopping` records every stop, silences the ignored
 one, and :func:`raise_if_stopped` raises it again at the points that commit outputs
 (:mod:`twsb_sim.staging`) and when the command returns.
+
+A stop can also land in code that wraps what it raises: a compiled (numba) function's
+dispatcher runs Python while it loads, and turns an exception raised there into a
+``SystemError``. An error whose chain of causes holds a stop is that stop.
 """
 
 from __future__ import annotations
@@ -43,6 +47,17 @@ def _on_unraisable(unraisable: sys.UnraisableHookArgs, previous: Callable[..., o
         previous(unraisable)
 
 
+def stop_within(error: BaseException) -> KeyboardInterrupt | None:
+    """The Ctrl-C or SIGTERM in ``error``'s chain of causes and contexts, if any."""
+    seen: set[int] = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, KeyboardInterrupt):
+            return error
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return None
+
+
 def raise_if_stopped() -> None:
     """Raise the Ctrl-C or SIGTERM received (and perhaps swallowed) so far, if any."""
     if _stop is not None:
@@ -65,6 +80,11 @@ def stopping() -> Iterator[None]:
     try:
         yield
         raise_if_stopped()
+    except Exception as error:
+        stop = stop_within(error) or _stop
+        if stop is None:
+            raise
+        raise stop from error
     finally:
         sys.unraisablehook = previous_hook
         if previous_handler is not None:

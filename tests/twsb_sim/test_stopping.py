@@ -57,3 +57,22 @@ def test_nothing_is_raised_outside_a_block_or_after_it():
     with pytest.raises(KeyboardInterrupt), stopping():
         _collect_one(KeyboardInterrupt())
     raise_if_stopped()  # the stop belonged to the block that ended
+
+
+def _wrapped_stop(stop: KeyboardInterrupt) -> None:
+    """Raise ``stop`` where a compiled function's dispatcher turns it into a SystemError."""
+    try:
+        raise stop
+    except KeyboardInterrupt as error:
+        raise SystemError("returned a result with an exception set") from error
+
+
+@pytest.mark.parametrize("stop", [KeyboardInterrupt(), Terminated()])
+def test_a_stop_wrapped_in_another_error_is_still_the_stop(stop):
+    with pytest.raises(type(stop)), stopping():
+        _wrapped_stop(stop)
+
+
+def test_an_error_with_no_stop_in_it_stays_that_error():
+    with pytest.raises(SystemError), stopping():
+        raise SystemError("a real one")

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_file, output_folder
+from twsb_sim.stopping import stop_within
 
 
 def add_dataset_commands(commands: argparse._SubParsersAction) -> None:
@@ -88,7 +89,9 @@ def _generate(args: argparse.Namespace) -> int:
         )
     except DatasetMismatchError as error:
         raise ConfigError(error.root, "", error.reason) from None
-    except KeyboardInterrupt:
+    except BaseException as error:
+        if stop_within(error) is None:  # a Ctrl-C or SIGTERM, perhaps wrapped
+            raise
         print(
             f"twsb: interrupted; finished episodes are kept in {args.out}: run the same "
             "command again to resume",
