@@ -233,17 +233,16 @@ class EgoMotion:
         the motion since it: a reference with nothing to match would fail every match
         after it, until the filter re-baselines and loses its level view.
         """
-        if match.trusted and self.reference is not None:
-            left = np.count_nonzero((points[:, 0] == points[:, 0]) & ~moving)  # NaN: none
-            if left < MIN_REFERENCE_POINTS:
-                self._carry(match.step, tilt_rad, dt, pose)
-                if dt > 0.0:
-                    self.velocity = match.step.scaled(1.0 / dt)
-                return
         reference = unstretch(points, tilt_rad)
         reference = reference.copy() if reference is points else reference
         moving = indices(moving)
         reference[moving] = np.nan
+        if match.trusted and dt > 0.0:
+            self.velocity = match.step.scaled(1.0 / dt)
+        left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
+        if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
+            self._carry(match.step, tilt_rad, dt, pose)
+            return
         if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
             # the match measured these points' ranges already (unstretched alike)
             ranges = match.ranges.copy()
@@ -253,8 +252,6 @@ class EgoMotion:
         self.reference, self.reference_ranges = reference, ranges
         self.since_reference = STILL
         self.coasted_s = 0.0
-        if match.trusted and dt > 0.0:
-            self.velocity = match.step.scaled(1.0 / dt)
         self.tilt = tilt_rad
         self.pose = pose
 
