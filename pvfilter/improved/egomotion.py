@@ -20,7 +20,9 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   against the last matched scan, searched over the turn the robot can make in the time
   since; otherwise the filter re-baselines. A scan coasting on the odometry is filtered
   as usual (the odometry measures the motion, within its spread); one coasting on a
-  constant velocity removes nothing (its motion is a guess).
+  constant velocity is compared with the level view only within the guess's doubt (the
+  robot may have driven anywhere from standing to its top speed meanwhile:
+  :func:`pvfilter.improved.filter.blind_margin_m`).
 """
 
 from __future__ import annotations

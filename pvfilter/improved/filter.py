@@ -30,7 +30,7 @@ from pvfilter.improved.anchor import (
 )
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
-from pvfilter.improved.egomotion import EgoMotion, Match
+from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
 from pvfilter.improved.evidence import (
     RecentScans,
     WorldStatic,
@@ -51,6 +51,15 @@ from pvfilter.stamps import stamp_went_back
 STATIC_BASELINE_S = 0.3  # s: the world-static test compares with the scan this long ago
 STATIC_TOLERANCE_M = 0.03  # m: how near its prediction a static return lies (range noise
 # of two scans, plus the motion's error; plus 1 % of the range)
+
+
+def blind_margin_m(coasted_s: float) -> float:
+    """How far the level view can be off after coasting ``coasted_s`` seconds on the
+    constant-velocity guess, m: the robot drove anywhere from standing to flat out
+    (``MAX_SPEED_MPS``) meanwhile. A return is new in a blind scan only this much (plus
+    the usual margin) in front of the view: a floor line of a hard stop lies metres in
+    front of the wall behind it, and a wall the guess left off stays within it."""
+    return MAX_SPEED_MPS * coasted_s
 
 
 class ImprovedPitchVariationFilter:
@@ -120,8 +129,9 @@ class ImprovedPitchVariationFilter:
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
         match, fresh, coast = self._match(mid_points, directions, dt, prior, pose, attitude, fresh)
-        # coasting on a constant velocity, the motion is a guess: the scan is compared with
-        # nothing; on the wheel odometry it is a measurement within its spread, and it is
+        # coasting on a constant velocity, the motion is a guess, off by as much as the
+        # robot can drive in the time coasted: the scan is compared with the view within
+        # that doubt; on the wheel odometry it is a measurement within its spread
         blind = coast and pose is None
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
@@ -152,7 +162,7 @@ class ImprovedPitchVariationFilter:
             attitude,
             line_params,
             match.step,
-            fresh or blind,
+            fresh,
             static,
             through,
         )
@@ -248,7 +258,11 @@ class ImprovedPitchVariationFilter:
         seen through it (None where no return is new: no share of new returns is worked
         out then), the view itself, and the world-static test against the scans of the
         last ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or,
-        without an IMU, no new return)."""
+        without an IMU, no new return).
+
+        A ``blind`` scan (coasting on the constant-velocity guess) is compared with the
+        view within the guess's doubt, :func:`blind_margin_m`: the view is neither
+        re-anchored nor asked whether the returns stayed put in the world."""
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
@@ -256,9 +270,11 @@ class ImprovedPitchVariationFilter:
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
         self._recent.advance(step)
-        if blind:  # the motion is a constant-velocity guess: nothing is compared
-            return np.zeros(layout.count, bool), np.zeros(layout.count, bool), view, None
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
+        if blind:  # the motion is a constant-velocity guess: compared within its doubt
+            margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
+            new, through = free_space_evidence(gaps, ranges, margin_m, params.free_margin_rel)
+            return new, through, view, None
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )

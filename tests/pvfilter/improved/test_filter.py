@@ -16,6 +16,8 @@ from pvfilter import (
     ScanFilter,
     StampWentBackWarning,
 )
+from pvfilter.improved.egomotion import MAX_SPEED_MPS
+from pvfilter.improved.filter import blind_margin_m
 from pvfilter.synthetic import room_segments, room_sequence
 
 from .conftest import HEIGHT_M, pitch_event, room_scan, tilted_scan
@@ -289,3 +291,30 @@ def test_proven_odometry_carries_the_view_past_a_level_scan_whose_match_failed(
         assert false_alarms <= 0.02 * floor  # where the floor line meets the walls
     else:
         assert found == 0
+
+
+def test_a_scan_coasting_on_the_guess_is_compared_within_its_doubt():
+    # a pitch event while driving at 0.5 m/s; mid-event the walls of one scan return
+    # next to nothing (every 20th beam), too little to match, and without odometry the
+    # filter coasts on the constant-velocity guess. The guess may be off by as much as
+    # the robot drives in the time coasted, so that scan is compared with the level view
+    # within that doubt: its floor line, metres in front of the wall ahead, is removed
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(15):
+        pitch = math.radians(12.0) if k >= 12 else 0.0
+        scan, hit = tilted_scan((-1.5 + 0.05 * k, 0.0, 0.0), pitch, stamp=0.1 * k)
+        if k == 14:
+            faint = (hit == 1) & (np.arange(len(scan)) % 20 != 0)
+            scan = dataclasses.replace(scan, ranges=np.where(faint, np.nan, scan.ranges))
+        result = pvf.process(scan)
+    assert pvf._ego.coasted_s > 0.0  # the last scan coasted
+    on_floor = hit == 2
+    assert (result.removed & on_floor).sum() >= 0.9 * on_floor.sum()
+    assert not (result.removed & ~on_floor).any()
+
+
+def test_the_doubt_of_a_guess_grows_with_the_time_coasted_at_the_top_speed():
+    assert blind_margin_m(0.0) == 0.0
+    assert blind_margin_m(0.2) == pytest.approx(2.0 * blind_margin_m(0.1))
+    assert blind_margin_m(0.1) == pytest.approx(MAX_SPEED_MPS * 0.1)
