@@ -15,7 +15,9 @@ earlier than the previous one resets the history with a
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -43,7 +45,7 @@ from pvfilter.improved.motion import MIN_PAIRS, Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.scoring import line_pitch
-from pvfilter.improved.segmentation import segment_scan
+from pvfilter.improved.segmentation import Segments, segment_scan
 from pvfilter.improved.sweep import deskew, unstretch
 from pvfilter.scan import Scan
 from pvfilter.stamps import stamp_went_back
@@ -60,6 +62,65 @@ def blind_margin_m(coasted_s: float) -> float:
     the usual margin) in front of the view: a floor line of a hard stop lies metres in
     front of the wall behind it, and a wall the guess left off stays within it."""
     return MAX_SPEED_MPS * coasted_s
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class _Prepared:
+    """One scan as the stages take it.
+
+    Attributes:
+        scan: the scan.
+        ranges: its ranges, NaN where invalid, m.
+        points: its points per beam, sensor frame, m, ``(n, 2)`` (NaN where invalid).
+        segments: its segments.
+        directions: each return's local line direction, rad (NaN: none).
+        mid_points: its points in the mid-scan frame (deskewed with ``velocity``), m.
+        velocity: the prior's motion per second.
+        dt: the time since the previous scan, s.
+        pose: the odometry pose (None: no odometry).
+        attitude: the IMU's attitude (None: no IMU).
+    """
+
+    scan: Scan
+    ranges: np.ndarray
+    points: np.ndarray
+    segments: Segments
+    directions: np.ndarray
+    mid_points: np.ndarray
+    velocity: Motion
+    dt: float
+    pose: np.ndarray | None
+    attitude: Attitude | None
+
+
+@dataclasses.dataclass(frozen=True)
+class _MatchOutcome:
+    """How a scan's motion was found.
+
+    Attributes:
+        match: the ego-motion (its step the prior's where the scan coasts).
+        fresh: the filter starts afresh at this scan (a re-baseline).
+        coast: the match failed and the prior carries the motion.
+        onset: the match failed on a level scan without odometry: the scan coasts if it
+            shows a pitch event (a strong candidate line), else the filter re-baselines.
+    """
+
+    match: Match
+    fresh: bool = False
+    coast: bool = False
+    onset: bool = False
+
+
+AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
+
+
+class _Found(NamedTuple):
+    """What comparing a scan with the level view and detecting its lines found."""
+
+    detection: LineDetection
+    new: np.ndarray  # bool per beam: in front of the level view
+    view: LevelView | None  # the level view in this scan's frame
+    level_ranges: np.ndarray  # the scan's ranges, mid-scan and unstretched, m
 
 
 class ImprovedPitchVariationFilter:
@@ -112,135 +173,156 @@ class ImprovedPitchVariationFilter:
         pose = check_pose(pose_sensor_in_odom)
         fresh, dt = self._start(scan)
         attitude = self._attitude.update(checked, scan.stamp)
+        prepared, prior = self._prepare(scan, dt, pose, attitude)
+        outcome = self._match(prepared, prior, fresh)
+        found = self._detect(prepared, outcome)
+        if outcome.onset and not found.detection.tilted:
+            # the match failed on a scan that shows no pitch event: start afresh after all
+            self._rebaseline()
+            outcome = AFRESH
+            found = self._detect(prepared, outcome)
+        detection, line_params = found.detection, self._line_params
+        # check the IMU's estimate against the scan's confident floor line, if any
+        if attitude is not None:
+            scores = detection.segment_scores
+            guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
+            confident = None if guessed else line_pitch(prepared.segments, scores, line_params)
+            self._attitude.check(confident, scores.imu_contradicted)
+        # remember: the level view (from level scans only), the scans to match and compare
+        self._remember(prepared, found, outcome.coast)
+        if not outcome.coast:
+            tilt = self._tilt(detection, attitude)
+            new_or_line = found.new | detection.candidates
+            self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose)
+        # remove: the beams of every detected segment become NaN
+        return removal(detection)
+
+    def _prepare(
+        self, scan: Scan, dt: float, pose: np.ndarray | None, attitude: Attitude | None
+    ) -> tuple[_Prepared, tuple[Motion, tuple[float, float]]]:
+        """The scan's valid returns, segments (in its own frame: a floor line moves with
+        the sensor) and mid-scan points; and the ego-motion's prior."""
         layout = self._layout
         # scan.valid_mask(), without its errstate guard: comparisons with NaN never warn
         valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max)
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
         beams = indices(valid)
-        # segment, in the scan's own frame (a floor line moves with the sensor)
         line_params = self._line_params  # the point counts for this scan's beam spacing
         segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, line_params)
-        directions = np.empty(len(scan))  # each return's local line direction, rad
+        directions = np.empty(len(scan))
         directions.fill(np.nan)
         directions[beams] = segments.directions
-        # ego-motion: the scan in its mid-scan frame, matched against the previous one
+        # the scan in its mid-scan frame, deskewed with the prior's velocity
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
-        match, fresh, coast = self._match(mid_points, directions, dt, prior, pose, attitude, fresh)
+        prepared = _Prepared(
+            scan, ranges, points, segments, directions, mid_points, velocity, dt, pose, attitude
+        )
+        return prepared, prior
+
+    def _detect(self, prepared: _Prepared, outcome: _MatchOutcome) -> _Found:
+        """Compare the scan with the level view and detect its lines."""
+        scan, pose, attitude = prepared.scan, prepared.pose, prepared.attitude
+        match = outcome.match
         # coasting on a constant velocity, the motion is a guess, off by as much as the
         # robot can drive in the time coasted: the scan is compared with the view within
         # that doubt; on the wheel odometry it is a measurement within its spread
-        blind = coast and pose is None
+        blind = outcome.coast and pose is None
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
         level_ranges = match.ranges
         if level_ranges is None:
-            level_ranges = np.hypot(*unstretch(mid_points, match.tilt_rad).T)
+            level_ranges = np.hypot(*unstretch(prepared.mid_points, match.tilt_rad).T)
         # travel the scans may not have seen can leave the view off along x beyond the
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
         unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
         new, through, view, static = self._evidence(
             scan,
-            ranges,
+            prepared.ranges,
             level_ranges,
-            directions,
+            prepared.directions,
             match.step,
-            velocity,
-            fresh,
+            prepared.velocity,
+            outcome.fresh,
             blind,
             unseen_travel,
         )
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
             scan,
-            points,
-            segments,
+            prepared.points,
+            prepared.segments,
             new,
             attitude,
-            line_params,
+            self._line_params,
             match.step,
-            fresh,
+            outcome.fresh,
             static,
             through,
         )
-        # check the IMU's estimate against the scan's confident floor line, if any
-        if attitude is not None:
-            scores = detection.segment_scores
-            confident = None if fresh or blind else line_pitch(segments, scores, line_params)
-            self._attitude.check(confident, scores.imu_contradicted)
-        # remember: the level view (from level scans only), the scans to match and compare
-        self._remember(scan, ranges, level_ranges, detection, view, velocity, dt, coast)
-        if not coast:
-            tilt = self._tilt(detection, attitude)
-            self._ego.commit(mid_points, new | detection.candidates, match, tilt, dt, pose)
-        # remove: the beams of every detected segment become NaN
-        return removal(detection)
+        return _Found(detection, new, view, level_ranges)
 
     def _match(
-        self,
-        mid_points: np.ndarray,
-        directions: np.ndarray,
-        dt: float,
-        prior: tuple[Motion, tuple[float, float]],
-        pose: np.ndarray | None,
-        attitude: Attitude | None,
-        fresh: bool,
-    ) -> tuple[Match, bool, bool]:
+        self, prepared: _Prepared, prior: tuple[Motion, tuple[float, float]], fresh: bool
+    ) -> _MatchOutcome:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior: in a pitch event (the last scan was tilted), or on wheel odometry that has
-        proven itself, a match that cannot be trusted lets the prior carry on until a
-        scan matches again; otherwise the filter re-baselines and the scan removes
-        nothing."""
+        prior.
+
+        A match that cannot be trusted lets the prior carry on until a scan matches again
+        in a pitch event (the last scan was tilted), and on wheel odometry that has proven
+        itself: the first tilted scan of an event fails its match before the filter
+        knows the event began. Without odometry such a level scan coasts on the guess
+        too, as an **onset**: if it shows no pitch event after all (no strong candidate
+        line), the filter re-baselines and the scan removes nothing. Otherwise an
+        untrusted match re-baselines.
+        """
         if fresh:
             self._rebaseline()
-            return Match(Motion(), True), True, False
+            return AFRESH
+        pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
         match = self._ego.match(
-            self._layout, mid_points, directions, dt, prior, pose is not None, imu_tilt
+            self._layout,
+            prepared.mid_points,
+            prepared.directions,
+            dt,
+            prior,
+            pose is not None,
+            imu_tilt,
         )
-        # a failed match in a pitch event coasts; so does one in a level scan on wheel
-        # odometry that has proven itself (the first tilted scan of an event fails its
-        # match before the filter knows the event began)
-        proven = pose is not None and self._ego.odometry_proven and self._ego.reference is not None
-        event = 0.0 < self._tilted_s or proven
-        coast = not match.trusted and event and self._tilted_s <= self.params.max_event_s
-        fresh = not match.trusted and not coast
-        if fresh:
+        if match.trusted:
+            return _MatchOutcome(match)
+        in_event = 0.0 < self._tilted_s <= self.params.max_event_s
+        known = self._ego.reference is not None
+        onset = self._tilted_s == 0.0 and known and pose is None
+        proven = self._tilted_s == 0.0 and known and pose is not None and self._ego.odometry_proven
+        if not (in_event or onset or proven):
             self._rebaseline()
-        elif coast:
-            match = self._ego.coast(match, match.tilt_rad, dt, pose)
-        return match, fresh, coast
+            return AFRESH
+        coasted = self._ego.coast(match, match.tilt_rad, dt, pose)
+        return _MatchOutcome(coasted, coast=True, onset=onset)
 
-    def _remember(
-        self,
-        scan: Scan,
-        ranges: np.ndarray,
-        level_ranges: np.ndarray,
-        detection: LineDetection,
-        view: LevelView | None,
-        velocity: Motion,
-        dt: float,
-        coast: bool,
-    ) -> None:
+    def _remember(self, prepared: _Prepared, found: _Found, coast: bool) -> None:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
         and keep the scan for the world-static test."""
-        level = self._level(detection.tilted or coast, dt)
+        scan, detection = prepared.scan, found.detection
+        level = self._level(detection.tilted or coast, prepared.dt)
         hold = detection.candidates if self.params.hold_behind_lines else None
         self._memory.update(
-            ranges,
+            prepared.ranges,
             scan.ranges == np.inf,
-            view,
-            dt,
+            found.view,
+            prepared.dt,
             self.params,
             level,
             hold,
-            velocity,
+            prepared.velocity,
             scan.time_increment,
         )
-        self._recent.add(scan.stamp, level_ranges)
+        self._recent.add(scan.stamp, found.level_ranges)
 
     def _evidence(
         self,
