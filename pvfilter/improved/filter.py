@@ -39,6 +39,7 @@ from pvfilter.improved.evidence import (
     free_space_evidence,
     free_space_gaps,
 )
+from pvfilter.improved.follow import FloorFollower
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
@@ -139,6 +140,7 @@ class ImprovedPitchVariationFilter:
         self._previous_stamp: float | None = None
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
+        self._follower = FloorFollower(self.params)
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
@@ -182,6 +184,7 @@ class ImprovedPitchVariationFilter:
             outcome = AFRESH
             found = self._detect(prepared, outcome)
         detection, line_params = found.detection, self._line_params
+        self._follower.advance(outcome.match.step)
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
@@ -310,7 +313,7 @@ class ImprovedPitchVariationFilter:
         and keep the scan for the world-static test."""
         scan, detection = prepared.scan, found.detection
         level = self._level(detection.tilted or coast, prepared.dt)
-        hold = detection.candidates if self.params.hold_behind_lines else None
+        hold = self._hold(detection)
         self._memory.update(
             prepared.ranges,
             scan.ranges == np.inf,
@@ -323,6 +326,16 @@ class ImprovedPitchVariationFilter:
             scan.time_increment,
         )
         self._recent.add(scan.stamp, found.level_ranges)
+
+    def _hold(self, detection: LineDetection) -> np.ndarray | None:
+        """Per beam: the level view does not come closer there (None: nowhere): behind
+        the scan's candidate lines, and behind segments that continue the floor line of a
+        recent strong line (:mod:`pvfilter.improved.follow`)."""
+        if not self.params.hold_behind_lines:
+            return None
+        hold = detection.candidates
+        followed = self._follower.followed(detection)
+        return hold if followed is None else hold | followed
 
     def _evidence(
         self,
@@ -455,6 +468,7 @@ class ImprovedPitchVariationFilter:
         self._memory.reset()
         self._ego.reset()
         self._recent.clear()
+        self._follower.reset()
         self._tilted_s = 0.0
 
     def _level(self, tilted: bool, dt: float) -> bool:

@@ -17,8 +17,9 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   tilted the view only moves, and its clock stands still;
 - space newly seen as free (a level return farther than the view) joins the view only
   once it has been seen for ``confirm_free_s``;
-- behind a segment that may be a floor line (``hold_behind_lines``) the view does not
-  come closer at all; elsewhere a return pulls it closer by at most ``memory_shrink_mps``
+- behind a segment that may be a floor line (``hold_behind_lines``: a candidate line,
+  or one that continues a recent strong line, :mod:`pvfilter.improved.follow`) the view
+  does not come closer at all; elsewhere a return pulls it closer by at most ``memory_shrink_mps``
   times the time step (a person walking in, an ego-motion error);
 - beams with no return within range (``+inf``) remember free space up to ``range_max``;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;

@@ -66,7 +66,9 @@ class ImprovedParams:
             dropped stretch of scans), s: the filter starts its view afresh and removes
             nothing from that scan.
         hold_behind_lines: the level view does not come closer behind a segment that may
-            be a floor line: the line stays new for the whole event.
+            be a floor line (a candidate line, or one that continues the last strong
+            line: :mod:`pvfilter.improved.follow`): the line stays new for the whole
+            event.
         ego_motion: compensate the sensor's own motion between scans (scan matching, with
             wheel odometry as the prior when given).
         reanchor_view: register the level view against a scan with new returns, and

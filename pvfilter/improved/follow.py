@@ -1,0 +1,112 @@
+"""Following a floor line into the scans after it was seen strongly.
+
+The level view comes closer at most ``memory_shrink_mps`` in a level scan, and not at all
+behind a candidate line (:mod:`pvfilter.improved.memory`). A floor line that settles
+near the structure behind it, as a held tilt in front of a wall puts it, can lose the
+new points that made it a candidate: most of its points lie within the free-space
+margin of that wall, and the scan looks level. Such a scan would pull the view onto the
+line where it still stood in front of it, and from then on the line is what the view
+holds.
+
+A tilted plane's floor line lies on the side the plane tilts down to and moves with the
+pitch, by no more than ``max_pitch_rate_rad_s`` allows. So for ``FOLLOW_S`` after scans
+with a strong line, a gated segment with new points is taken for the same floor line,
+and the view does not come closer behind it either, when it lies on the same side, at a
+tilt within that reach of the latest strong line's, and **it has moved**: its distance
+differs by more than the free-space margin from where the earliest of those lines would
+lie had it stayed put in the world (moved by the sensor's travel since). A wall that
+reappears where a floor line was, taken for one, stays put in the world; following it
+would hold the view off it, and keep it new, for as long as it is seen.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from pvfilter.improved.clusters import LineDetection
+from pvfilter.improved.motion import Motion
+from pvfilter.improved.params import ImprovedParams
+
+FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
+# (three scans at 10 Hz; a pitch event's scans come in a run)
+
+
+@dataclasses.dataclass(frozen=True)
+class StrongLine:
+    """The floor line of a scan that showed one strongly.
+
+    Attributes:
+        side: +1 ahead (nose down), -1 behind (nose up).
+        tilt_rad: the tilt that puts the floor on it, rad.
+        distance_m: its distance from the sensor, m.
+        stamp: the scan's stamp, s.
+    """
+
+    side: int
+    tilt_rad: float
+    distance_m: float
+    stamp: float
+    pose: Motion
+
+    @classmethod
+    def of(cls, detection: LineDetection, pose: Motion) -> StrongLine | None:
+        """The scan's strong line, if it is tilted by one (None: not); ``pose``: the
+        sensor's, from a fixed frame."""
+        tilt = detection.plane_tilt_rad
+        if not detection.tilted or detection.down_side == 0 or np.isnan(tilt):
+            return None
+        scores = detection.segment_scores
+        strongest = int(np.argmax(np.where(scores.gates, scores.new_counts, -1.0)))
+        distance = float(detection.segments.distances[strongest])
+        return cls(detection.down_side, tilt, distance, detection.scan.stamp, pose)
+
+
+class FloorFollower:
+    """The strong lines of the last ``FOLLOW_S``, and the segments that continue them."""
+
+    def __init__(self, params: ImprovedParams) -> None:
+        self.params = params
+        self.lines: list[StrongLine] = []  # oldest first
+        self.pose = Motion()  # the sensor's, from a fixed frame
+
+    def reset(self) -> None:
+        """Forget the lines (a re-baseline)."""
+        self.lines.clear()
+        self.pose = Motion()
+
+    def advance(self, step: Motion) -> None:
+        """Take the sensor's step to the scan now."""
+        self.pose = self.pose.then(step)
+
+    def followed(self, detection: LineDetection) -> np.ndarray | None:
+        """Per beam: it lies on a segment that continues the strong lines (None: no such
+        segment); then takes the scan's own strong line in."""
+        stamp = detection.scan.stamp
+        self.lines = [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
+        beams = self._continuing(detection) if self.lines else None
+        line = StrongLine.of(detection, self.pose)
+        if line is not None:
+            self.lines.append(line)
+        return beams
+
+    def _continuing(self, detection: LineDetection) -> np.ndarray | None:
+        params, scores, segments = self.params, detection.segment_scores, detection.segments
+        if scores.gates.size == 0:
+            return None
+        latest, earliest = self.lines[-1], self.lines[0]
+        reach = params.max_pitch_rate_rad_s * (detection.scan.stamp - latest.stamp)
+        followed = scores.gates & (scores.new_counts > 0)
+        followed &= np.sign(segments.centroids[:, 0]) == latest.side
+        followed &= np.abs(scores.tilt_rad - latest.tilt_rad) <= reach
+        # where the earliest line would lie now had it stayed put in the world
+        travel = earliest.pose.inverse().then(self.pose).tx_m
+        staying = earliest.distance_m - earliest.side * travel
+        margin = params.free_margin_m + params.free_margin_rel * earliest.distance_m
+        followed &= np.abs(segments.distances - staying) > margin
+        if not np.count_nonzero(followed):
+            return None
+        beams = np.zeros(len(detection.scan), dtype=bool)
+        beams[segments.beams] = followed.take(segments.labels)
+        return beams

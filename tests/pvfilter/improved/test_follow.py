@@ -1,0 +1,81 @@
+"""Following a floor line into the scans after a strong one (pvfilter.improved.follow)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
+from pvfilter.improved.follow import FOLLOW_S, FloorFollower, StrongLine
+from pvfilter.improved.motion import Motion
+
+from .conftest import HEIGHT_M, tilted_scan
+
+POSE = (-2.3, 0.0, 0.0)  # m, rad: the wall behind 1.7 m off, the wall ahead 6.3 m
+PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+
+
+def _nose_up_event(params: ImprovedParams, faint_second_scan: bool):
+    """Level scans, a scan pitched 12 deg nose up (its floor line 1.2 m behind: strong),
+    then one pitched 9.6 deg (the line 1.5 m behind, 0.2 m in front of the wall); with
+    ``faint_second_scan`` that scan returns only 16 beams of its floor line (behind, to
+    the left), too few for a strong line. Returns the filter, its last result, the last
+    scan, what its beams hit, and the faint scan's floor beams."""
+    pvf = ImprovedPitchVariationFilter(params)
+    kept = np.zeros(0, dtype=int)
+    for k, pitch_deg in enumerate([0.0] * 10 + [-12.0, -9.6]):
+        scan, hit = tilted_scan(POSE, math.radians(pitch_deg), stamp=0.1 * k)
+        if k == 11 and faint_second_scan:
+            angles = scan.angles()
+            behind = (angles > math.radians(160.0)) & (angles < math.radians(168.0))
+            kept = np.flatnonzero((hit == 2) & behind)
+            faint = (hit == 2) & ~behind
+            scan = dataclasses.replace(scan, ranges=np.where(faint, np.nan, scan.ranges))
+        result = pvf.process(scan)
+    return pvf, result, scan, hit, kept
+
+
+def _follower_with(*lines: StrongLine) -> FloorFollower:
+    follower = FloorFollower(PARAMS)
+    follower.lines = list(lines)
+    return follower
+
+
+def test_a_floor_line_is_followed_on_its_side_within_the_pitch_rate_s_reach_if_it_moved():
+    _, result, scan, hit, _ = _nose_up_event(PARAMS, faint_second_scan=False)
+    detection = result.lines
+    on_floor = hit == 2
+    before, still = scan.stamp - 0.1, Motion()
+    line = StrongLine(-1, math.radians(12.0), 1.2, before, still)  # 0.3 m nearer
+    followed = _follower_with(line).followed(detection)
+    assert followed is not None and followed[on_floor].mean() > 0.9
+    assert not followed[~on_floor].any()
+    # the other side, a tilt beyond the reach, a line seen too long ago: not followed
+    other_side = StrongLine(1, math.radians(12.0), 1.2, before, still)
+    far_tilt = StrongLine(-1, math.radians(40.0), 1.2, before, still)
+    old = StrongLine(-1, math.radians(12.0), 1.2, scan.stamp - 1.5 * FOLLOW_S, still)
+    for other in (other_side, far_tilt, old):
+        assert _follower_with(other).followed(detection) is None
+    # a line where the earlier one lies had it stayed put in the world: a wall, not
+    # followed (the sensor standing: at its distance; the sensor 0.3 m farther forward
+    # since, so 0.3 m farther from a line behind it)
+    standing = StrongLine(-1, math.radians(12.0), 1.5, before, still)
+    drove_on = StrongLine(-1, math.radians(12.0), 1.2, before, Motion(0.0, -0.3, 0.0))
+    for wall in (standing, drove_on):
+        assert _follower_with(wall).followed(detection) is None
+
+
+def test_the_view_does_not_come_closer_behind_a_faint_continuation_of_a_floor_line():
+    # the faint scan shows too little of the line to count as tilted, so it teaches the
+    # level view; the line it shows continues the strong one of the scan before, and the
+    # view stays on the wall behind it. Without holding, the view comes onto the line
+    pvf, result, scan, _, kept = _nose_up_event(PARAMS, faint_second_scan=True)
+    assert kept.size >= 10 and not result.lines.tilted
+    view = pvf._memory.state.ranges
+    assert (view[kept] > scan.ranges[kept] + 0.1).all()
+    loose = dataclasses.replace(PARAMS, hold_behind_lines=False)
+    pvf, result, scan, _, kept = _nose_up_event(loose, faint_second_scan=True)
+    view = pvf._memory.state.ranges
+    np.testing.assert_allclose(view[kept], scan.ranges[kept], atol=0.02)
