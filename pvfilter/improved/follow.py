@@ -57,9 +57,13 @@ class StrongLine:
         tilt = detection.plane_tilt_rad
         if not detection.tilted or detection.down_side == 0 or np.isnan(tilt):
             return None
-        scores = detection.segment_scores
-        strongest = int(np.argmax(np.where(scores.gates, scores.new_counts, -1.0)))
-        distance = float(detection.segments.distances[strongest])
+        scores, segments = detection.segment_scores, detection.segments
+        # the strongest gated segment on the down side (the IMU may have chosen the side)
+        on_side = scores.gates & (np.sign(segments.centroids[:, 0]) == detection.down_side)
+        if not np.count_nonzero(on_side):
+            return None
+        strongest = int(np.argmax(np.where(on_side, scores.new_counts, -1.0)))
+        distance = float(segments.distances[strongest])
         return cls(detection.down_side, tilt, distance, detection.scan.stamp, pose)
 
 
