@@ -112,7 +112,7 @@ class _MatchOutcome:
     onset: bool = False
 
 
-AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
+_AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
 
 
 class _Found(NamedTuple):
@@ -181,10 +181,10 @@ class ImprovedPitchVariationFilter:
         if outcome.onset and not found.detection.tilted:
             # the match failed on a scan that shows no pitch event: start afresh after all
             self._rebaseline()
-            outcome = AFRESH
+            outcome = _AFRESH
             found = self._detect(prepared, outcome)
         detection, line_params = found.detection, self._line_params
-        self._follower.advance(outcome.match.step)
+        self._follower.advance(outcome.match.step)  # where a floor line followed would be
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
@@ -284,7 +284,7 @@ class ImprovedPitchVariationFilter:
         """
         if fresh:
             self._rebaseline()
-            return AFRESH
+            return _AFRESH
         pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
         match = self._ego.match(
@@ -304,7 +304,7 @@ class ImprovedPitchVariationFilter:
         proven = self._tilted_s == 0.0 and known and pose is not None and self._ego.odometry_proven
         if not (in_event or onset or proven):
             self._rebaseline()
-            return AFRESH
+            return _AFRESH
         coasted = self._ego.coast(match, match.tilt_rad, dt, pose)
         return _MatchOutcome(coasted, coast=True, onset=onset)
 
