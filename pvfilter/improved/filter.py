@@ -184,7 +184,6 @@ class ImprovedPitchVariationFilter:
             outcome = _AFRESH
             found = self._detect(prepared, outcome)
         detection, line_params = found.detection, self._line_params
-        self._follower.advance(outcome.match.step)  # where a floor line followed would be
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
@@ -334,7 +333,7 @@ class ImprovedPitchVariationFilter:
         if not self.params.hold_behind_lines:
             return None
         hold = detection.candidates
-        followed = self._follower.followed(detection)
+        followed = self._follower.followed(detection, self._recent.pose)
         return hold if followed is None else hold | followed
 
     def _evidence(

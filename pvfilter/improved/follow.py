@@ -73,29 +73,29 @@ class FloorFollower:
     def __init__(self, params: ImprovedParams) -> None:
         self.params = params
         self.lines: list[StrongLine] = []  # oldest first
-        self.pose = Motion()  # the sensor's, from a fixed frame
 
     def reset(self) -> None:
         """Forget the lines (a re-baseline)."""
         self.lines.clear()
-        self.pose = Motion()
 
-    def advance(self, step: Motion) -> None:
-        """Take the sensor's step to the scan now."""
-        self.pose = self.pose.then(step)
-
-    def followed(self, detection: LineDetection) -> np.ndarray | None:
+    def followed(self, detection: LineDetection, pose: Motion) -> np.ndarray | None:
         """Per beam: it lies on a segment that continues the strong lines (None: no such
-        segment); then takes the scan's own strong line in."""
+        segment); then takes the scan's own strong line in.
+
+        Args:
+            detection: the scan's line detection.
+            pose: the sensor's pose now, from the fixed frame the strong lines' poses are
+                in (the filter's :class:`~pvfilter.improved.evidence.RecentScans` keeps it).
+        """
         stamp = detection.scan.stamp
         self.lines = [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
-        beams = self._continuing(detection) if self.lines else None
-        line = StrongLine.of(detection, self.pose)
+        beams = self._continuing(detection, pose) if self.lines else None
+        line = StrongLine.of(detection, pose)
         if line is not None:
             self.lines.append(line)
         return beams
 
-    def _continuing(self, detection: LineDetection) -> np.ndarray | None:
+    def _continuing(self, detection: LineDetection, pose: Motion) -> np.ndarray | None:
         params, scores, segments = self.params, detection.segment_scores, detection.segments
         if scores.gates.size == 0:
             return None
@@ -105,7 +105,7 @@ class FloorFollower:
         followed &= np.sign(segments.centroids[:, 0]) == latest.side
         followed &= np.abs(scores.tilt_rad - latest.tilt_rad) <= reach
         # where the earliest line would lie now had it stayed put in the world
-        travel = earliest.pose.inverse().then(self.pose).tx_m
+        travel = earliest.pose.inverse().then(pose).tx_m
         staying = earliest.distance_m - earliest.side * travel
         margin = params.free_margin_m + params.free_margin_rel * earliest.distance_m
         followed &= np.abs(segments.distances - staying) > margin

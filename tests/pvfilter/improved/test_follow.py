@@ -49,7 +49,7 @@ def test_a_floor_line_is_followed_on_its_side_within_the_pitch_rate_s_reach_if_i
     on_floor = hit == 2
     before, still = scan.stamp - 0.1, Motion()
     line = StrongLine(-1, math.radians(12.0), 1.2, before, still)  # 0.3 m nearer
-    followed = _follower_with(line).followed(detection)
+    followed = _follower_with(line).followed(detection, still)
     assert followed is not None and followed[on_floor].mean() > 0.9
     assert not followed[~on_floor].any()
     # the other side, a tilt beyond the reach, a line seen too long ago: not followed
@@ -57,14 +57,14 @@ def test_a_floor_line_is_followed_on_its_side_within_the_pitch_rate_s_reach_if_i
     far_tilt = StrongLine(-1, math.radians(40.0), 1.2, before, still)
     old = StrongLine(-1, math.radians(12.0), 1.2, scan.stamp - 1.5 * FOLLOW_S, still)
     for other in (other_side, far_tilt, old):
-        assert _follower_with(other).followed(detection) is None
+        assert _follower_with(other).followed(detection, still) is None
     # a line where the earlier one lies had it stayed put in the world: a wall, not
     # followed (the sensor standing: at its distance; the sensor 0.3 m farther forward
     # since, so 0.3 m farther from a line behind it)
     standing = StrongLine(-1, math.radians(12.0), 1.5, before, still)
     drove_on = StrongLine(-1, math.radians(12.0), 1.2, before, Motion(0.0, -0.3, 0.0))
     for wall in (standing, drove_on):
-        assert _follower_with(wall).followed(detection) is None
+        assert _follower_with(wall).followed(detection, still) is None
 
 
 def test_the_view_does_not_come_closer_behind_a_faint_continuation_of_a_floor_line():
