@@ -40,8 +40,8 @@ class LineDetection:
         best: per valid point, that line's score.
         p_th: the threshold the clusters are built for.
         min_points: segments smaller than this are no cluster unless detected.
-        new_sequence: this scan starts a sequence, or its motion is the prior's: nothing
-            in it was compared with a level view.
+        new_sequence: this scan starts a sequence (or the filter re-baselined at it):
+            nothing in it was compared with a level view.
         new_points: bool per beam: in space the level view saw as free.
         candidates: bool per beam: in a candidate line (see ``CANDIDATE_SHARE``).
         tilted: the scan has a candidate line with at least ``down_side_min_new`` new
@@ -49,6 +49,14 @@ class LineDetection:
         motion: the ego-motion from the previous scan.
         claim_scores: per beam, the best score of the lines that take it in: the beam is
             removed exactly when this exceeds ``p_th``.
+        level_view_m: per beam, where the level view the scan was compared with lies
+            along it, m: the remembered level scans moved into this scan's frame. NaN
+            where the view is unknown (everywhere when ``new_sequence``), ``+inf`` where it
+            saw nothing within ``range_max``. A return nearer than this by more than
+            ``free_margin_m + free_margin_rel * range`` is new.
+        coasted: the scan's motion is the prior's (its match could not be trusted in a
+            pitch event): a return was new only by the margin widened by what the robot
+            could have driven meanwhile, without odometry.
     """
 
     scan: Scan
@@ -65,6 +73,8 @@ class LineDetection:
     tilted: bool
     motion: Motion
     claim_scores: np.ndarray
+    level_view_m: np.ndarray
+    coasted: bool = False
 
     @property
     def down_side(self) -> int:
@@ -149,6 +159,8 @@ def build_detection(
     motion: Motion,
     new_sequence: bool,
     scored: bool = True,
+    level_view_m: np.ndarray | None = None,
+    coasted: bool = False,
 ) -> LineDetection:
     """The per-beam results of a scan (its clusters are built when asked for).
 
@@ -165,6 +177,8 @@ def build_detection(
         new_sequence: nothing in the scan was compared with a level view.
         scored: some segment scores above 0 (False: no claim and no candidate, as on
             most scans, and ``best`` is all 0).
+        level_view_m: the level view per beam, m (None: none, all NaN).
+        coasted: the scan's motion is the prior's.
     """
     n, labels = len(scan), segments.labels
     claim_scores = np.zeros(n)
@@ -179,6 +193,9 @@ def build_detection(
         candidates[segments.beams] = candidate.take(labels)
         strong = candidate & (scores.new_counts >= params.down_side_min_new)
         tilted = np.count_nonzero(strong) > 0
+    if level_view_m is None:
+        level_view_m = np.empty(n)
+        level_view_m.fill(np.nan)  # np.full costs a Python-level call
     return LineDetection(
         scan=scan,
         points=points,
@@ -194,6 +211,8 @@ def build_detection(
         tilted=tilted,
         motion=motion,
         claim_scores=claim_scores,
+        level_view_m=level_view_m,
+        coasted=coasted,
     )
 
 

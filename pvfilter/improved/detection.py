@@ -43,6 +43,8 @@ def detect_lines(
     new_sequence: bool,
     static: WorldStatic | None = None,
     through: np.ndarray | None = None,
+    level_view_m: np.ndarray | None = None,
+    coasted: bool = False,
 ) -> LineDetection:
     """Score every segment, detect the lines, extend them, and build the clusters.
 
@@ -57,6 +59,9 @@ def detect_lines(
         new_sequence: this scan starts a sequence (nothing is new).
         static: the world-static test against an earlier scan (None: none).
         through: bool per beam: beyond the level view (None: none).
+        level_view_m: the level view per beam the scan was compared with, m (kept in the
+            result; None: none).
+        coasted: the scan's motion is the prior's (kept in the result).
     """
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
@@ -69,5 +74,17 @@ def detect_lines(
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))
     return build_detection(
-        scan, points, segments, scores, owner, best, new, params, motion, new_sequence, scored
+        scan,
+        points,
+        segments,
+        scores,
+        owner,
+        best,
+        new,
+        params,
+        motion,
+        new_sequence,
+        scored,
+        level_view_m,
+        coasted,
     )

@@ -264,6 +264,8 @@ class ImprovedPitchVariationFilter:
             outcome.fresh,
             static,
             through,
+            None if view is None else view.ranges,
+            outcome.coast,
         )
         return _Found(detection, new, view, level_ranges)
 

@@ -49,6 +49,13 @@ class ImprovedResult(FilterResult):
 
     lines: LineDetection
 
+    @property
+    def level_view_m(self) -> np.ndarray:
+        """Per beam, where the level view the scan was compared with lies along it, m
+        (NaN unknown, ``+inf`` free up to ``range_max``): see
+        :attr:`LineDetection.level_view_m <pvfilter.improved.clusters.LineDetection>`."""
+        return self.lines.level_view_m
+
     @functools.cached_property
     def clusters(self) -> tuple[LineRecord, ...]:
         """One record per cluster, in cluster order (built on first access)."""

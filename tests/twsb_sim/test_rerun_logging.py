@@ -338,6 +338,30 @@ def test_the_improved_filter_s_clusters_are_logged_too(tmp_path):
     assert any("clusters" in str(entity) for entity in entities), sorted(map(str, entities))
 
 
+def test_the_improved_filter_s_level_view_is_drawn_along_each_beam(tmp_path):
+    # the view each scan was compared with: one point per beam where it is known and
+    # within range, at the view's range along the beam, in the sensor frame
+    from pvfilter import make_filter
+
+    path = tmp_path / "improved.rrd"
+    rec = rr.RecordingStream(APPLICATION_ID)
+    rec.save(path)
+    collect = Collect()
+    logger = RerunLogger(rec, p_th=0.5, close_recording=True)
+    scenario = shortened("hard_stop", 2.0)
+    run_scenario(scenario, seed=0, scan_filter=make_filter("improved"), sinks=[logger, collect])
+    rows = entity_rows(path, paths.SENSOR_LEVEL_VIEW, "Points2D:positions")
+    assert sorted(rows) == [f.index for f in collect.frames]
+    for frame, result in zip(collect.frames, collect.results, strict=True):
+        view = result.level_view_m
+        shown = np.isfinite(view)
+        angles = frame.scan.angles()[shown]
+        expected = np.stack((np.cos(angles), np.sin(angles)), axis=1) * view[shown, None]
+        np.testing.assert_allclose(np.array(rows[frame.index]).reshape(-1, 2), expected, atol=1e-4)
+    assert not rows[collect.frames[0].index]  # the first scan has no view yet
+    assert max(len(r) for r in rows.values()) > 100
+
+
 def test_imu_estimate_and_odometry_are_plotted_against_the_truth(hard_stop_recording):
     path, collect = hard_stop_recording
     estimate_rows = 0

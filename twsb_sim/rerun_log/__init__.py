@@ -36,6 +36,7 @@ _HOMES = {  # public name -> the module that holds it
     "log_trajectory": "robot",
     "log_clusters": "scans",
     "log_filter_decisions": "scans",
+    "log_level_view": "scans",
     "log_lidar_hits": "scans",
     "log_sensor_labels": "scans",
 }

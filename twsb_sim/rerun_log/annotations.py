@@ -122,7 +122,9 @@ LEGEND = """\
 **Decision**: *green* true positive (removed, pitch-variation point), *red* false
 positive, *magenta* false negative (kept, pitch-variation point), *grey* true negative;
 white halo: removed. **Boxes**: removed clusters, *red* detected in this scan, *orange*
-tracked from the last one, labelled with id and P(C_pv). **Clusters**: a colour each.
+tracked from the last one, labelled with id and P(C_pv). **Level view** (improved
+filter): small *light blue* dots where the remembered level scans put the structure
+along each beam; a return in front of it is new. **Clusters**: a colour each.
 **3D**: hits by label: floor *orange*, ceiling *blue*, table tops *yellow*, walls
 *grey-blue*; white line: trajectory; blue disc: scan plane; red arrow: shove.
 Hover a point for its class.

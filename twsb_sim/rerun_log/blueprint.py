@@ -110,6 +110,7 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
         paths.SENSOR_DECISION,
         paths.SENSOR_LABELS,  # runs without a filter: the labels instead
         paths.SENSOR_CLUSTER_BOXES,
+        paths.SENSOR_LEVEL_VIEW,  # the improved filter's
     )
     clusters = _sensor_view(
         "Sensor frame: clusters",

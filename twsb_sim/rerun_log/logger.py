@@ -33,6 +33,7 @@ from twsb_sim.rerun_log.robot import log_robot_poses, log_trajectory, log_trajec
 from twsb_sim.rerun_log.scans import (
     log_clusters,
     log_filter_decisions,
+    log_level_view,
     log_lidar_hits,
     log_scan_styles,
     log_sensor_labels,
@@ -212,6 +213,8 @@ class RerunLogger:
             log_sensor_labels(rec, unfiltered)
         if len(clustered := batch.with_clusters()):  # the filter's clusters, if it has any
             log_clusters(rec, clustered)
+        if len(viewed := batch.with_results("level_view_m")):  # the improved filter's
+            log_level_view(rec, viewed)
         self._frames_logged = int(batch.indices[-1]) + 1
         self._last_t_s = float(batch.stamps_s[-1])
 

@@ -32,6 +32,7 @@ SENSOR_REMOVED = "sensor/lidar/removed"  # the beams the filter removed
 SENSOR_CLUSTERS = "sensor/lidar/clusters"  # clustered points, class = cluster id
 SENSOR_CLUSTER_BOXES = "sensor/lidar/cluster_boxes"  # removed clusters: detected or tracked
 SENSOR_CLUSTER_IDS = "sensor/lidar/cluster_ids"  # their centroids: id, P(C_pv), state
+SENSOR_LEVEL_VIEW = "sensor/lidar/level_view"  # the improved filter's level view per beam
 
 PLOTS = "plots"
 PLOT_PITCH = "plots/pitch"  # deg, positive = nose down

@@ -27,6 +27,9 @@ REMOVED_HALO_COLOR = (255, 255, 255, 110)
 HALO_DRAW_ORDER = 30.0  # 2D draw order: halos under the scan's dots, labels on top
 DOT_DRAW_ORDER = 40.0
 LABEL_DRAW_ORDER = 50.0
+LEVEL_VIEW_RADIUS_UI = -1.5
+LEVEL_VIEW_COLOR = (80, 190, 255, 200)  # light blue: apart from the decisions
+LEVEL_VIEW_DRAW_ORDER = 20.0  # under the halos and the scan's dots
 CLUSTER_BOX_PAD_M = 0.05
 BOX_LINE_RADIUS_UI = -1.0
 CENTROID_RADIUS_UI = -1.5
@@ -75,6 +78,9 @@ def log_scan_styles(rec: rr.RecordingStream) -> None:
             radii=POINT_RADIUS_UI, draw_order=DOT_DRAW_ORDER
         ),
         paths.SENSOR_CLUSTER_BOXES: rr.Boxes2D.from_fields(radii=BOX_LINE_RADIUS_UI),
+        paths.SENSOR_LEVEL_VIEW: rr.Points2D.from_fields(
+            radii=LEVEL_VIEW_RADIUS_UI, colors=[LEVEL_VIEW_COLOR], draw_order=LEVEL_VIEW_DRAW_ORDER
+        ),
         paths.SENSOR_CLUSTER_IDS: rr.Points2D.from_fields(
             radii=CENTROID_RADIUS_UI, draw_order=LABEL_DRAW_ORDER
         ),
@@ -116,6 +122,24 @@ def log_filter_decisions(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     decisions = beam_decisions(batch.labels[valid], removed[valid])
     _send_scan_points(rec, paths.SENSOR_DECISION, batch, valid, class_ids=decisions)
     _send_scan_points(rec, paths.SENSOR_REMOVED, batch, valid & removed)
+
+
+def log_level_view(rec: rr.RecordingStream, batch: FrameBatch) -> None:
+    """Where the improved filter's level view lies along each beam (``level_view_m``): the
+    structure the remembered level scans put there. A return in front of it by more than
+    the free-space margin is new; beams where the view is unknown, or saw nothing within
+    range, show nothing.
+
+    Args:
+        rec: the recording.
+        batch: frames whose result has a level view (``batch.with_results("level_view_m")``).
+    """
+    view = batch.stack("level_view_m", np.float64)  # (K, n), m
+    shown = np.isfinite(view)
+    angles = np.stack([frame.scan.angles() for frame in batch.frames])
+    xy = np.stack((np.cos(angles), np.sin(angles)), axis=-1) * view[:, :, None]
+    _send(rec, paths.SENSOR_LEVEL_VIEW, batch, rr.Points2D, shown.sum(axis=1),
+          positions=xy[shown].astype(np.float32))  # fmt: skip
 
 
 def _removed_cluster_labels(ids: np.ndarray, p_pv: np.ndarray, detected: np.ndarray) -> list[str]:

@@ -18,9 +18,9 @@ from pvfilter import (
 )
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
-from pvfilter.synthetic import room_segments, room_sequence
+from pvfilter.synthetic import ray_cast, room_segments, room_sequence
 
-from .conftest import HEIGHT_M, pitch_event, room_scan, tilted_scan
+from .conftest import HEIGHT_M, ROOM, pitch_event, room_scan, tilted_scan, to_sensor
 
 CLUTTER = np.array([[[1.5, 1.0], [2.0, 1.2]], [[-2.0, -1.0], [-1.2, -1.6]]])  # world, m
 
@@ -192,6 +192,47 @@ def test_the_odometry_carries_the_motion_where_the_walls_do_not_show_it():
         assert result.removed[~floor].sum() <= 3  # those corners
 
 
+def test_the_level_view_is_the_room_a_level_scanner_sees_from_where_the_sensor_is_now():
+    # driving at 0.5 m/s through the room, level: the view each scan is compared with is
+    # the remembered scans moved to the sensor's pose now, so it lies on the walls as a
+    # ray cast from that pose puts them; the first scan has none to be compared with
+    pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
+    for k in range(12):
+        pose = (-1.5 + 0.05 * k, 0.0, 0.0)
+        scan, hit = tilted_scan(pose, stamp=0.1 * k)
+        result = pvf.process(scan)
+        if k == 0:
+            assert result.lines.new_sequence and np.isnan(result.level_view_m).all()
+    walls = hit == 1
+    expected = ray_cast(to_sensor(ROOM, pose), scan.angles())
+    error = np.abs(result.level_view_m[walls] - expected[walls])
+    assert np.isfinite(result.level_view_m[walls]).mean() > 0.99
+    assert np.nanmedian(error) < 0.01 and np.nanpercentile(error, 95) < 0.03
+    assert not result.lines.coasted and not result.removed.any()
+
+
+def test_a_floor_line_lies_in_front_of_the_level_view_by_more_than_the_margin():
+    # the first pitched scan: its floor line, h / sin(12 deg) = 1.2 m ahead, lies in
+    # front of the walls the level view holds along the same beams (all but where it
+    # meets them); the returns in front by more than the margin are new
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(11):
+        pitch = math.radians(12.0) if k == 10 else 0.0
+        scan, hit = tilted_scan((0.0, 0.0, 0.0), pitch, stamp=0.1 * k)
+        result = pvf.process(scan)
+    floor = hit == 2
+    # the view is on the walls, to within what matching the first pitched scan with the
+    # last scan's tilt leaves: the plane sees the wall behind 2 % farther (1 / cos 12 deg)
+    walls = ray_cast(to_sensor(ROOM, (0.0, 0.0, 0.0)), scan.angles())
+    view = result.level_view_m
+    np.testing.assert_allclose(view[floor], walls[floor], atol=0.15)
+    margin = params.free_margin_m + params.free_margin_rel * scan.ranges
+    in_front = floor & (view - scan.ranges > margin + 0.01)
+    assert in_front.sum() > 0.9 * floor.sum()
+    assert result.lines.new_points[in_front].all() and result.removed[floor].all()
+
+
 def test_new_structure_beside_open_space_and_structure_seen_before_are_kept():
     # a door closes 2 m ahead, across the direction of travel, in space seen free; the
     # room goes on beside it, which a floor line would have hidden: it is not removed
@@ -308,7 +349,7 @@ def test_a_scan_coasting_on_the_guess_is_compared_within_its_doubt():
             faint = (hit == 1) & (np.arange(len(scan)) % 20 != 0)
             scan = dataclasses.replace(scan, ranges=np.where(faint, np.nan, scan.ranges))
         result = pvf.process(scan)
-    assert pvf._ego.coasted_s > 0.0  # the last scan coasted
+    assert result.lines.coasted  # the last scan coasted
     on_floor = hit == 2
     assert (result.removed & on_floor).sum() >= 0.9 * on_floor.sum()
     assert not (result.removed & ~on_floor).any()
@@ -337,7 +378,7 @@ def test_a_level_scan_whose_match_fails_coasts_only_if_a_pitch_event_begins(pitc
         result = pvf.process(scan)
     on_floor = hit == 2
     if pitch_deg:
-        assert pvf._ego.coasted_s > 0.0 and not result.lines.new_sequence
+        assert result.lines.coasted and not result.lines.new_sequence
         assert (result.removed & on_floor).sum() >= 0.9 * on_floor.sum()
         assert not (result.removed & ~on_floor).any()
     else:
