@@ -8,8 +8,10 @@ tan p)``. It meets a ceiling at height ``H`` on the other side, at ``(H - h_s) /
 along a parallel line. ``h_s`` itself falls with the tilt as the robot tilts about its
 wheel axle: ``h_s = axle + (h - axle) cos p``.
 
-With a rotating LiDAR the beams of one line are measured over a few milliseconds, and a
-fast pitch change bends the line: its far end moves by ``d cot(p) * pitch_rate * dt``.
+With a rotating LiDAR the beams of one scan are measured over its whole sweep, and the
+pitch changes meanwhile: a return measured ``dt`` from a line's middle may come from a
+plane up to ``pitch_rate * dt`` flatter, whose floor line lies farther out, without bound
+as the plane nears level.
 
 And a plane tilted into the floor meets it along a whole line: every beam on that side
 ends at that line or nearer. A return beyond it shows the line is not the floor.
@@ -122,9 +124,13 @@ def seen_beyond(
     travel: every beam on that side ends at that line or nearer. So at least
     ``HORIZON_POINTS`` returns farther out along x than the segment (by ``HORIZON_M`` plus
     2 % of the range, plus the lean a roll of ``max_roll_deg`` gives the line at the
-    return's y, plus the bend of a rotating scan whose pitch changes at up to
-    ``max_pitch_rate_rad_s`` between the line's beams and the return's) prove the segment
-    is not where the plane meets the floor: a wall, or furniture, seen beside open space.
+    return's y) prove the segment is not where the plane meets the floor: a wall, or
+    furniture, seen beside open space. With a rotating LiDAR a return measured ``dt``
+    from the line's middle proves it only if it also lies beyond the floor line of the
+    flattest plane the pitch can reach meanwhile (``max_pitch_rate_rad_s * dt`` less
+    tilt): where a scan's sweep starts and ends straight ahead, the two halves of a floor
+    line are measured a whole sweep apart, and the later half of a levelling plane lies
+    metres farther out.
     """
     seen = np.zeros(len(segments), dtype=bool)
     lines = indices(scored)
@@ -135,16 +141,21 @@ def seen_beyond(
     centroids = segments.centroids.take(lines, axis=0)  # (cheaper than indexing rows)
     side = np.sign(centroids[:, 0])  # (c,)
     depth = np.abs(centroids[:, 0])  # the line's x, m
-    cot = 1.0 / np.tan(np.maximum(tilt[lines], 1e-3))
-    lean = math.sin(math.radians(params.max_roll_deg)) * cot  # as np.sin, np.radians
-    # time between each return's beam and the line's middle beam, s
+    line_tilt = np.maximum(tilt.take(lines), 1e-3)
+    lean = math.sin(math.radians(params.max_roll_deg)) / np.tan(line_tilt)
+    beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
+    beyond -= HORIZON_M + 0.02 * ranges
+    beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
+    line, point = np.nonzero(beyond > 0.0)  # returns beyond the line itself (few)
+    if line.size < HORIZON_POINTS:
+        return seen
+    # time between each such return's beam and its line's middle beam, s
     middle = (
         np.bincount(segments.labels, segments.beams, len(segments))[lines] / segments.sizes[lines]
     )
-    apart = np.abs(segments.beams[None, :] - middle[:, None]) * abs(time_increment)
-    bend = (depth * cot * params.max_pitch_rate_rad_s)[:, None] * apart
-    beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
-    beyond -= HORIZON_M + 0.02 * ranges + bend
-    beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
-    seen[lines] = np.add.reduce(beyond > 0.0, axis=1) >= HORIZON_POINTS  # returns beyond
+    apart = np.abs(segments.beams.take(point) - middle.take(line)) * abs(time_increment)
+    flattest = np.maximum(line_tilt.take(line) - params.max_pitch_rate_rad_s * apart, 1e-6)
+    bend = floor_distance(flattest, params) - floor_distance(line_tilt, params).take(line)
+    proof = beyond[line, point] > bend
+    seen[lines] = np.bincount(line[proof], minlength=lines.size) >= HORIZON_POINTS
     return seen

@@ -133,6 +133,31 @@ def test_a_rotating_scan_bends_a_line_within_the_pitch_rate_allowance():
     assert lean_ok(*args, np.array([0.02]), LEVEL_SENSOR)[0]  # 3 rad/s covers 1.7 rad/s
 
 
+def test_a_sweep_that_starts_ahead_splits_a_levelling_floor_line_and_proves_nothing():
+    # a scanner whose sweep starts straight ahead (angle_min 0, as many do) while the
+    # plane levels from 18 to 4 deg within the sweep: the left half of the floor line
+    # ahead comes first, 0.81 m out; the right half last, 3.6 m out. A return of the
+    # later half lies beyond the earlier half, yet a plane levelling that fast meets the
+    # floor there: it proves nothing. With the pitch held still, it would
+    beams, sweep_s = 720, 0.1
+    increment, time_increment = 2.0 * math.pi / beams, sweep_s / beams
+    index = np.arange(beams)
+    angle = index * increment
+    pitch = math.radians(18.0) - math.radians(14.0) * index / beams  # 2.4 rad/s
+    ahead = np.cos(angle) > 0.5
+    ranges = HEIGHT_M / (np.sin(pitch) * np.cos(angle))
+    points = np.column_stack((ranges * np.cos(angle), ranges * np.sin(angle)))[ahead]
+    segments = segment_scan(points, index[ahead], increment, LEVEL_SENSOR)
+    early = segments.labels[0]  # the segment of beam 0
+    scored = np.zeros(len(segments), dtype=bool)
+    scored[early] = True
+    tilts = implied_tilt(segments.distances, LEVEL_SENSOR)
+    assert math.degrees(tilts[early]) > 15.0  # the early half: the steep plane's line
+    assert not seen_beyond(segments, scored, tilts, time_increment, LEVEL_SENSOR)[early]
+    still = dataclasses.replace(LEVEL_SENSOR, max_pitch_rate_rad_s=0.0)
+    assert seen_beyond(segments, scored, tilts, time_increment, still)[early]
+
+
 def test_nothing_lies_beyond_a_floor_line_but_open_space_beside_a_wall_shows():
     tilt = math.radians(10.0)
     walls = room_segments(6.0, 4.0, 3.0, 3.0)
