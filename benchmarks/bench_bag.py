@@ -64,7 +64,7 @@ def filter_rate(source: Path, name: str, repeats: int) -> float:
     reader = open_reader(source)
     try:
         scans = [
-            scan_of(read_scan(raw, not reader.is2), "/scan", i)
+            scan_of(read_scan(raw, not reader.is2), "/scan", i)[0]
             for i, (_, _, raw) in enumerate(
                 reader.messages(connections=[c for c in reader.connections if c.topic == "/scan"])
             )

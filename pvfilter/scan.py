@@ -118,6 +118,58 @@ class Scan:
     def __len__(self) -> int:
         return int(self.ranges.size)
 
+    @classmethod
+    def counter_clockwise(
+        cls,
+        *,
+        ranges: object,
+        angle_min: float,
+        angle_increment: float,
+        range_min: float,
+        range_max: float,
+        stamp: float = 0.0,
+        time_increment: float = 0.0,
+        scan_time: float = 0.0,
+        intensities: object | None = None,
+    ) -> tuple[Scan, bool]:
+        """A scan from ``LaserScan`` fields whose beams may run clockwise.
+
+        ROS allows a negative ``angle_increment``: beam ``i + 1`` clockwise of beam ``i``,
+        as some drivers publish a scanner mounted upside down. A ``Scan`` orders its beams
+        counter-clockwise, so such a scan is reversed: its beam ``i`` is the message's
+        beam ``n - 1 - i``, at the same angle and measured at the same time (``angle_min``
+        becomes the message's last angle, ``stamp`` the time of the message's last beam,
+        and ``time_increment`` changes sign with the order). Per-beam results of the
+        reversed scan, ``removed`` say, map back to the message's order with ``[::-1]``.
+
+        Returns:
+            The scan, and whether its beams are the message's reversed.
+
+        Raises:
+            ValueError: as the constructor, for any field out of bounds.
+        """
+        fields = {"range_min": range_min, "range_max": range_max, "scan_time": scan_time}
+        if not angle_increment < 0.0:  # (NaN and 0 go to the constructor, which names them)
+            return cls(
+                ranges=ranges, angle_min=angle_min, angle_increment=angle_increment,
+                stamp=stamp, time_increment=time_increment, intensities=intensities,
+                **fields,
+            ), False  # fmt: skip
+        ranges = _read_only_float_array("ranges", ranges)[::-1]
+        last = max(ranges.size - 1, 0)
+        if intensities is not None:
+            intensities = _read_only_float_array("intensities", intensities)[::-1]
+        reversed_scan = cls(
+            ranges=ranges,
+            angle_min=angle_min + last * angle_increment,
+            angle_increment=-angle_increment,
+            stamp=stamp + last * time_increment,
+            time_increment=-time_increment,
+            intensities=intensities,
+            **fields,
+        )
+        return reversed_scan, True
+
     @property
     def angle_max(self) -> float:
         """Angle of the last beam, rad (``angle_min`` for an empty scan)."""

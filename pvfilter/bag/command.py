@@ -129,9 +129,11 @@ def _write(
     try:
         for _, stamp_ns, raw in writer.read_through(bag, inputs.scan_connections):
             message = read_scan(raw, ros1)
-            scan = scan_of(message, inputs.scan_topic, progress.done)
+            scan, reversed_beams = scan_of(message, inputs.scan_topic, progress.done)
             result = scan_filter.process(scan, **inputs.at(message.stamp_ns))
             removed = np.asarray(result.removed, dtype=bool)
+            if reversed_beams:  # back to the message's (clockwise) order
+                removed = removed[::-1]
             filtered = np.where(removed, np.float32(np.nan), message.ranges)
             writer.write(filtered_out, stamp_ns, message.with_ranges(filtered))
             writer.write(removed_out, stamp_ns, message.with_intensities(removed))
@@ -148,11 +150,13 @@ def _write(
     return removed_total, valid_total
 
 
-def scan_of(message: object, topic: str, index: int) -> Scan:
-    """The filter's scan of a LaserScan message (the filters use no intensities)."""
+def scan_of(message: object, topic: str, index: int) -> tuple[Scan, bool]:
+    """The filter's scan of a LaserScan message (the filters use no intensities), and
+    whether its beams are the message's reversed (a clockwise message, negative
+    ``angle_increment``: :meth:`Scan.counter_clockwise`)."""
     fields = message.intrinsics
     try:
-        return Scan(
+        return Scan.counter_clockwise(
             ranges=message.ranges,
             angle_min=fields["angle_min"],
             angle_increment=fields["angle_increment"],

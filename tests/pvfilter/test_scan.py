@@ -98,3 +98,56 @@ def test_any_ranges_give_one_point_row_per_beam_finite_only_when_valid(ranges):
     points = scan.points()
     assert points.shape == (len(ranges), 2)
     assert (np.isfinite(points).all(axis=1) == scan.valid_mask()).all()
+
+
+def test_a_clockwise_laser_scan_is_the_same_beams_counter_clockwise():
+    # a message with beams clockwise (negative angle_increment), beam i measured at
+    # stamp + i * time_increment: reversed, each beam keeps its angle, range, intensity
+    # and measurement time
+    n, increment, time_increment = 9, -0.1, 0.001
+    ranges, intensities = np.arange(1.0, 1.0 + n), np.arange(n) * 10.0
+    message = dict(ranges=ranges, angle_min=0.4, angle_increment=increment, range_min=0.1,
+                   range_max=20.0, stamp=5.0, time_increment=time_increment, scan_time=0.1,
+                   intensities=intensities)  # fmt: skip
+    scan, reversed_beams = Scan.counter_clockwise(**message)
+    assert reversed_beams and scan.angle_increment == pytest.approx(0.1)
+    angles = 0.4 + increment * np.arange(n)
+    times = 5.0 + time_increment * np.arange(n)
+    np.testing.assert_allclose(scan.angles()[::-1], angles)
+    np.testing.assert_allclose((scan.stamp + scan.time_increment * np.arange(n))[::-1], times)
+    np.testing.assert_array_equal(scan.ranges[::-1], ranges)
+    np.testing.assert_array_equal(scan.intensities[::-1], intensities)
+    same, reversed_beams = Scan.counter_clockwise(**{**message, "angle_increment": 0.1})
+    assert not reversed_beams and same.angle_min == 0.4
+    np.testing.assert_array_equal(same.ranges, ranges)
+    with pytest.raises(ValueError, match="angle_increment"):
+        Scan.counter_clockwise(**{**message, "angle_increment": 0.0})
+
+
+def test_a_clockwise_scan_filters_as_its_counter_clockwise_twin():
+    # the improved filter on pitch events, given every scan of a rotating scanner as a
+    # clockwise message: what it removes, in the message's order, is what it removes from
+    # the same scans counter-clockwise
+    import dataclasses
+
+    from pvfilter import ImprovedPitchVariationFilter
+    from pvfilter.synthetic import room_sequence
+
+    twin, mine = ImprovedPitchVariationFilter(), ImprovedPitchVariationFilter()
+    removed_any = 0
+    for scan in room_sequence(30, seed=4).scans:
+        scan = dataclasses.replace(scan, time_increment=0.1 / len(scan))
+        last = len(scan) - 1
+        message = dict(
+            ranges=scan.ranges[::-1], angle_min=scan.angle_max,
+            angle_increment=-scan.angle_increment, range_min=scan.range_min,
+            range_max=scan.range_max, stamp=scan.stamp + last * scan.time_increment,
+            time_increment=-scan.time_increment, scan_time=scan.scan_time,
+        )  # fmt: skip
+        expected = twin.process(scan).removed
+        again, reversed_beams = Scan.counter_clockwise(**message)
+        assert reversed_beams
+        in_message_order = mine.process(again).removed[::-1]
+        np.testing.assert_array_equal(in_message_order, expected[::-1])
+        removed_any += int(expected.sum())
+    assert removed_any > 0

@@ -246,3 +246,56 @@ def test_without_rosbags_the_error_names_the_extra(tmp_path, monkeypatch, capsys
     monkeypatch.setitem(sys.modules, "rosbags", None)
     assert main(["bag", str(tmp_path / "in"), str(tmp_path / "out")]) == 2
     assert 'pip install "pvfilter[bag]"' in capsys.readouterr().err
+
+
+def _write_laser_scans(path, messages, clockwise: bool):
+    """A rosbag2 of ``messages`` (LaserScan) on /scan, as they are or with their beams
+    clockwise: reversed, negative increments, the header stamp the time of the first
+    beam in the new order (the same physical scan)."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    t = store.types
+    with Writer(path, version=9) as writer:
+        connection = writer.add_connection("/scan", "sensor_msgs/msg/LaserScan", typestore=store)
+        for bag_ns, _, m in messages:
+            stamp_ns = m.header.stamp.sec * 10**9 + m.header.stamp.nanosec
+            fields = dict(angle_min=m.angle_min, angle_max=m.angle_max,
+                          angle_increment=m.angle_increment, time_increment=m.time_increment,
+                          ranges=np.asarray(m.ranges, np.float32))  # fmt: skip
+            if clockwise:
+                last = len(m.ranges) - 1
+                stamp_ns += round(last * m.time_increment * 1e9)
+                fields = dict(angle_min=m.angle_max, angle_max=m.angle_min,
+                              angle_increment=-m.angle_increment,
+                              time_increment=-m.time_increment,
+                              ranges=np.asarray(m.ranges, np.float32)[::-1].copy())  # fmt: skip
+            sec, nanosec = divmod(stamp_ns, 10**9)
+            header = t["std_msgs/msg/Header"](
+                stamp=t["builtin_interfaces/msg/Time"](sec=sec, nanosec=nanosec),
+                frame_id=m.header.frame_id,
+            )
+            message = t["sensor_msgs/msg/LaserScan"](
+                header=header, scan_time=m.scan_time, range_min=m.range_min,
+                range_max=m.range_max, intensities=np.zeros(0, np.float32), **fields,
+            )  # fmt: skip
+            writer.write(connection, bag_ns, store.serialize_cdr(message, message.__msgtype__))
+    return path
+
+
+def test_a_clockwise_scan_topic_is_filtered_in_its_own_beam_order(exported, tmp_path):
+    # ROS allows a negative angle_increment; the same scans written clockwise lose the
+    # same beams, in the message's order
+    scans = read_bag(exported[0])[0]["/scan"]
+    masks = {}
+    for clockwise in (False, True):
+        source = _write_laser_scans(tmp_path / f"in{clockwise}", scans, clockwise)
+        out = tmp_path / f"out{clockwise}"
+        assert main(["bag", str(source), str(out), "--improved", "--quiet"]) == 0
+        masks[clockwise] = [
+            np.asarray(m.intensities) == 1.0 for _, _, m in read_bag(out)[0]["/scan/removed"]
+        ]
+    assert sum(int(m.sum()) for m in masks[False]) > 0
+    for counter, clockwise in zip(masks[False], masks[True], strict=True):
+        np.testing.assert_array_equal(clockwise[::-1], counter)
