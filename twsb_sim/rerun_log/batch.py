@@ -101,6 +101,12 @@ class FrameBatch:
         """Both timelines, one row per frame."""
         return frame_times(self.stamps_s, self.indices)
 
+    def directions(self) -> np.ndarray:
+        """``(K, n, 2)``: each beam's unit vector in the sensor frame (cached per beam
+        geometry: the scans of a run share theirs)."""
+        scans = [frame.scan for frame in self.frames]
+        return np.stack([_unit_vectors(s.angle_min, s.angle_increment, len(s)) for s in scans])
+
     def stack(self, name: str, dtype: type | None = None) -> np.ndarray:
         """One attribute of every filter result, stacked (e.g. ``removed``: ``(K, n)``)."""
         stacks = self.__dict__.setdefault("_stacks", {})  # several loggers ask for the same

@@ -136,8 +136,7 @@ def log_level_view(rec: rr.RecordingStream, batch: FrameBatch) -> None:
     """
     view = batch.stack("level_view_m", np.float64)  # (K, n), m
     shown = np.isfinite(view)
-    angles = np.stack([frame.scan.angles() for frame in batch.frames])
-    xy = np.stack((np.cos(angles), np.sin(angles)), axis=-1) * view[:, :, None]
+    xy = batch.directions() * view[:, :, None]
     _send(rec, paths.SENSOR_LEVEL_VIEW, batch, rr.Points2D, shown.sum(axis=1),
           positions=xy[shown].astype(np.float32))  # fmt: skip
 
