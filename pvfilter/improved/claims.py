@@ -120,22 +120,22 @@ def _spread_claims(
 
 
 def best_claims(
-    segments: Segments, score: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
+    segments: Segments, score: np.ndarray, params: ImprovedParams
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per valid point: the highest-scoring line that takes it in, and that score.
 
-    A point belongs to its own segment, and may be claimed by the lines with a score
-    (extension at their ends, and with ``spread`` anywhere on them, if the line is strong:
-    at least ``down_side_min_new`` new points; a fragment that spread over the scan would
-    take whole walls with it). At a threshold ``p_th`` it is removed exactly when the best
-    claim's score exceeds ``p_th``; the best claimer is then detected, and the point joins
-    its cluster.
+    A point belongs to its own segment, and may be claimed by the lines with a score:
+    at their ends, and with ``spread`` anywhere on them. A claimed point takes the line's
+    own score, so a piece of the floor line that is new only in part (a floor line that
+    settles in front of the wall behind it) carries the rest of it as far as its evidence
+    goes, and a line the scan doubts claims nothing it would remove. At a threshold
+    ``p_th`` a point is removed exactly when the best claim's score exceeds ``p_th``; the
+    best claimer is then detected, and the point joins its cluster.
 
     Args:
         segments: the segments.
         score: per segment, its score.
-        new_counts: per segment, its new points.
-        params: ``spread``, ``down_side_min_new`` and the claims' tolerances.
+        params: ``spread`` and the claims' tolerances.
 
     Returns:
         The owning segment per point, and its score.
@@ -144,8 +144,7 @@ def best_claims(
     lines = indices(score > 0.0)
     pairs = [extension_claims(segments, lines, params)]
     if params.spread:
-        strong = lines[new_counts[lines] >= params.down_side_min_new]
-        pairs.append(spread_claims(segments, strong, params))
+        pairs.append(spread_claims(segments, lines, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
     order = score[claimer].argsort(kind="stable")  # the best claim is written last

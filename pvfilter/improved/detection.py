@@ -70,7 +70,7 @@ def detect_lines(
     )
     scored = np.count_nonzero(scores.scores) > 0
     if scored:
-        owner, best = best_claims(segments, scores.scores, scores.new_counts, params)
+        owner, best = best_claims(segments, scores.scores, params)
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))
     return build_detection(

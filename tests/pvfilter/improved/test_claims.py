@@ -1,6 +1,7 @@
 """Claims: detected lines take in the points at their ends and along them; the best claim
 wins."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -52,5 +53,24 @@ def test_the_best_claim_wins():
     segments = segments_of(floor, tail)
     score = np.zeros(len(segments))
     score[segments.labels[0]] = 0.8
-    owner, best = best_claims(segments, score, segments.sizes.astype(float), PARAMS)
+    owner, best = best_claims(segments, score, PARAMS)
     assert (owner == segments.labels[0]).all() and (best == 0.8).all()
+
+
+def test_a_scored_piece_of_a_floor_line_claims_the_rest_of_it_at_its_own_score():
+    # a floor line 1.5 m ahead whose middle alone is new (the rest settles in front of
+    # the wall behind it): the scored middle takes in the stretches along the same line,
+    # as far as its own score, and not a wall beside them that crosses the line
+    middle = line(1.5, -0.2, 1.5, 0.2, 12)
+    ends = (line(1.5, -1.2, 1.5, -0.6, 20), line(1.5, 0.6, 1.5, 1.2, 20))
+    wall = line(1.0, 1.6, 2.0, 1.6, 20)  # beside them, across the line
+    segments = segments_of(middle, *ends, wall)
+    score = np.zeros(len(segments))
+    score[segments.labels[0]] = 0.7
+    owner, best = best_claims(segments, score, PARAMS)
+    on_line = np.abs(segments.points[:, 0] - 1.5) < 0.01
+    assert (best[on_line] == 0.7).all() and (owner[on_line] == segments.labels[0]).all()
+    assert (best[~on_line] == 0.0).all()
+    no_spread = dataclasses.replace(PARAMS, spread=False)
+    _, best = best_claims(segments, score, no_spread)
+    assert (best[on_line] == 0.7).sum() < on_line.sum() / 2
