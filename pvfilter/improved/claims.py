@@ -110,13 +110,13 @@ def _spread_claims(
     offsets = np.abs(points.dot(normals.T) - np.add.reduce(normals * centres, axis=1))
     near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
     near &= points.dot(centres.T) > 0.0  # on the line's side of the sensor
+    point, line = near.nonzero()  # (few: most points lie on no line)
     # running along the line, not crossing it (a wall the line runs into)
-    along = np.empty((len(points), 2))  # (np.stack is slower)
-    np.cos(segments.directions, out=along[:, 0])
-    np.sin(segments.directions, out=along[:, 1])
-    near &= np.abs(along.dot(normals.T)) < math.sin(math.radians(params.line_angle_deg))
-    point, line = near.nonzero()
-    return point, lines[line]
+    direction = segments.directions.take(point)
+    normal = normals.take(line, axis=0)
+    crossing = np.abs(np.cos(direction) * normal[:, 0] + np.sin(direction) * normal[:, 1])
+    along = crossing < math.sin(math.radians(params.line_angle_deg))  # NaN compares False
+    return point[along], lines.take(line[along])
 
 
 def best_claims(
