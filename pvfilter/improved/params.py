@@ -96,8 +96,8 @@ class ImprovedParams:
             while the points stay on it, beams (at 0.5° between beams, as ``min_points``).
         extend_tolerance_m: distance from the line within which a point still extends it,
             m (plus 1 % of the range).
-        spread: points anywhere on a detected line join it (all floor hits of one scan
-            lie on one line).
+        spread: points anywhere on a scored line join it, at its score (all floor hits
+            of one scan lie on one line).
         up_side_weight: score factor of lines on the up side of a tilted scan plane that
             are too near to be its ceiling (furniture met at another height, table
             undersides), 1 (1: no side cue).
