@@ -42,6 +42,9 @@ class StrongLine:
         tilt_rad: the tilt that puts the floor on it, rad.
         distance_m: its distance from the sensor, m.
         stamp: the scan's stamp, s.
+        pose: the sensor's pose then, from the fixed frame of the filter's
+            :class:`~pvfilter.improved.evidence.RecentScans` (to tell how far it has
+            travelled since).
     """
 
     side: int

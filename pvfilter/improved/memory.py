@@ -19,8 +19,8 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   once it has been seen for ``confirm_free_s``;
 - behind a segment that may be a floor line (``hold_behind_lines``: a candidate line,
   or one that continues a recent strong line, :mod:`pvfilter.improved.follow`) the view
-  does not come closer at all; elsewhere a return pulls it closer by at most ``memory_shrink_mps``
-  times the time step (a person walking in, an ego-motion error);
+  does not come closer at all; elsewhere a return pulls it closer by at most
+  ``memory_shrink_mps`` times the time step (a person walking in, an ego-motion error);
 - beams with no return within range (``+inf``) remember free space up to ``range_max``;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
