@@ -52,6 +52,8 @@ from pvfilter.scan import Scan
 from pvfilter.stamps import stamp_went_back
 
 STATIC_BASELINE_S = 0.3  # s: the world-static test compares with the scan this long ago
+SAME_INSTANT_S = 1e-9  # s: stamps closer than this are one instant (no scanner stamps
+# scans a nanosecond apart; a rate over a shorter step overflows)
 STATIC_TOLERANCE_M = 0.03  # m: how near its prediction a static return lies (range noise
 # of two scans, plus the motion's error; plus 1 % of the range)
 
@@ -499,4 +501,4 @@ class ImprovedPitchVariationFilter:
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
-        return False, dt
+        return False, dt if dt >= SAME_INSTANT_S else 0.0

@@ -5,7 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from pvfilter import FilterParams, PitchVariationFilter, Scan, StampWentBackWarning
@@ -100,6 +100,8 @@ def test_any_ranges_keep_length_and_nan_stays_nan(sequence, mode, tracking):
     stamps=st.lists(st.floats(min_value=0.0, max_value=1e308), min_size=1, max_size=4),
     name=st.sampled_from(["paper", "improved"]),
 )
+# stamps a denormal apart: a velocity over that step overflowed to NaN points
+@example(increment=1.0, angle_min=0.0, beams=1, stamps=[0.0, 5e-324], name="improved")
 def test_every_scan_that_scan_accepts_is_filtered_without_error_or_warning(
     increment, angle_min, beams, stamps, name
 ):
