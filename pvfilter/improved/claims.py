@@ -1,9 +1,10 @@
 """Claims: which detected line each point joins, beyond its own segment.
 
 A segment's points belong to it; a line with a score may also take in points outside it
-(:mod:`pvfilter.improved.detection`, step 5): those at its ends that lie on it, and with
-``spread`` every point of the scan on it. Each point then goes to the best-scoring line
-that takes it in, so one score per point says at which thresholds it is removed.
+(:mod:`pvfilter.improved.detection`, step 2): those at its ends that lie on it and, with
+``spread``, every point of the scan on it and the other half of a floor line that the
+seam of a full turn cuts in two. Each point then goes to the best-scoring line that takes
+it in, so one score per point says at which thresholds it is removed.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import math
 import numpy as np
 
 from pvfilter.improved.beams import indices
+from pvfilter.improved.geometry import floor_distance
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
@@ -119,13 +121,105 @@ def _spread_claims(
     return point[along], lines.take(line[along])
 
 
+def seam_claims(
+    segments: Segments,
+    lines: np.ndarray,
+    tilt_rad: np.ndarray,
+    down_side: int,
+    time_increment: float,
+    params: ImprovedParams,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The other half of a floor line cut by a full turn's seam: (point index, line) pairs.
+
+    A rotating LiDAR whose sweep starts and ends on a floor line cuts it in two, measured a
+    turn apart. The pitch changes meanwhile, and a floor line moves with it, parallel to
+    itself (centimetres a degree when steep, metres near level): the later half lies
+    beyond the spread's tolerance of the earlier, and may settle within the margin of the
+    structure behind it (not new). Where the segmentation joins the two across the seam
+    (:attr:`Segments.seam_joined`), a scored line on the floor's side takes in the points
+    of the other half that lie on it moved by the jump at the seam (the median offset of
+    the ``min_points`` points next to the seam), along it as :func:`spread_claims` asks.
+    The jump must be one the pitch can make between the halves (``max_pitch_rate_rad_s``):
+    a wall behind the line is no farther than that.
+
+    Args:
+        segments: the segments.
+        lines: the segments that may claim points.
+        tilt_rad: per segment, the tilt that puts the floor on its line.
+        down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown (no claims).
+        time_increment: the scan's time between beams, s.
+        params: ``min_points``, ``max_pitch_rate_rad_s`` and the spread's tolerances.
+    """
+    none = np.zeros(0, dtype=np.intp)
+    if not segments.seam_joined or down_side == 0 or lines.size == 0:
+        return none, none
+    last = len(segments) - 1
+    bounds, claimed, owners = segments.bounds, [], []
+    for line, other in ((0, last), (last, 0)):
+        if not (lines == line).any() or np.sign(segments.centroids[line, 0]) != down_side:
+            continue
+        half = np.arange(bounds[other], bounds[other + 1])
+        normal, centre = segments.normals[line], segments.centroids[line]
+        outward = math.copysign(1.0, float(centre @ normal))  # the normal, away from the sensor
+        offset_m = (segments.points.take(half, axis=0) @ normal - centre @ normal) * outward
+        next_to_seam = (
+            slice(-params.min_points, None) if other == last else slice(params.min_points)
+        )
+        jump_m = float(np.median(offset_m[next_to_seam]))
+        if abs(jump_m) <= params.extend_tolerance_m:  # on the line itself: the spread's
+            continue
+        if abs(jump_m) > _pitch_jump_bound(
+            segments, line, other, tilt_rad, jump_m, time_increment, params
+        ):
+            continue
+        direction = segments.directions.take(half)
+        crossing = np.abs(np.cos(direction) * normal[0] + np.sin(direction) * normal[1])
+        tolerance = params.extend_tolerance_m + 0.01 * segments.ranges.take(half)
+        on = (np.abs(offset_m - jump_m) <= tolerance) & (
+            crossing < math.sin(math.radians(params.line_angle_deg))
+        )
+        claimed.append(half[on])
+        owners.append(np.full(np.count_nonzero(on), line, dtype=np.intp))
+    if not claimed:
+        return none, none
+    return np.concatenate(claimed), np.concatenate(owners)
+
+
+def _pitch_jump_bound(
+    segments: Segments,
+    line: int,
+    other: int,
+    tilt_rad: np.ndarray,
+    jump_m: float,
+    time_increment: float,
+    params: ImprovedParams,
+) -> float:
+    """How far a floor line can move, m, outward (``jump_m > 0``) or inward, while the
+    pitch changes at ``max_pitch_rate_rad_s`` from ``line``'s middle beam to ``other``'s."""
+    tilt = float(tilt_rad[line])
+    if not math.isfinite(tilt):  # not fitted: no floor line to move
+        return 0.0
+    bounds, beams = segments.bounds, segments.beams
+    middle_line = beams[bounds[line] : bounds[line + 1]].mean()
+    middle_other = beams[bounds[other] : bounds[other + 1]].mean()
+    change = params.max_pitch_rate_rad_s * abs(middle_other - middle_line) * abs(time_increment)
+    moved = max(tilt - change, 1e-6) if jump_m > 0.0 else min(tilt + change, 0.5 * math.pi)
+    return abs(float(floor_distance(moved, params) - floor_distance(tilt, params)))
+
+
 def best_claims(
-    segments: Segments, score: np.ndarray, params: ImprovedParams
+    segments: Segments,
+    score: np.ndarray,
+    params: ImprovedParams,
+    tilt_rad: np.ndarray | None = None,
+    down_side: int = 0,
+    time_increment: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per valid point: the highest-scoring line that takes it in, and that score.
 
     A point belongs to its own segment, and may be claimed by the lines with a score:
-    at their ends, and with ``spread`` anywhere on them. A claimed point takes the line's
+    at their ends, and with ``spread`` anywhere on them and, given the lines' tilts, on
+    the other half of a floor line cut by a full turn's seam. A claimed point takes the line's
     own score, so a piece of the floor line that is new only in part (a floor line that
     settles in front of the wall behind it) carries the rest of it as far as its evidence
     goes, and a line the scan doubts claims nothing it would remove. At a threshold
@@ -136,6 +230,10 @@ def best_claims(
         segments: the segments.
         score: per segment, its score.
         params: ``spread`` and the claims' tolerances.
+        tilt_rad: per segment, the tilt that puts the floor on its line (None: no seam
+            claims).
+        down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
+        time_increment: the scan's time between beams, s.
 
     Returns:
         The owning segment per point, and its score.
@@ -145,6 +243,8 @@ def best_claims(
     pairs = [extension_claims(segments, lines, params)]
     if params.spread:
         pairs.append(spread_claims(segments, lines, params))
+        if tilt_rad is not None:
+            pairs.append(seam_claims(segments, lines, tilt_rad, down_side, time_increment, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
     order = score[claimer].argsort(kind="stable")  # the best claim is written last

@@ -5,8 +5,8 @@ clusters.
    previously free space, the tilted-plane geometry gates, the two sides of a tilted
    plane, and the IMU's agreement.
 2. **Claims** (:mod:`pvfilter.improved.claims`): a scored line takes in the points at its
-   ends that lie on it and, with ``spread``, every point of the scan on it; each point
-   goes to the best-scoring line that takes it in.
+   ends that lie on it and, with ``spread``, every point of the scan on it (on a full
+   turn, across the seam too); each point goes to the best-scoring line that takes it in.
 3. **Clusters** (:mod:`pvfilter.improved.clusters`): the detected segments with what they
    claimed, and the other segments of at least ``min_points`` points.
 
@@ -70,7 +70,14 @@ def detect_lines(
     )
     scored = np.count_nonzero(scores.scores) > 0
     if scored:
-        owner, best = best_claims(segments, scores.scores, params)
+        owner, best = best_claims(
+            segments,
+            scores.scores,
+            params,
+            scores.tilt_rad,
+            scores.down_side,
+            scan.time_increment,
+        )
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))
     return build_detection(

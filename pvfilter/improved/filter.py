@@ -213,7 +213,9 @@ class ImprovedPitchVariationFilter:
         points = layout.points(ranges)
         beams = indices(valid)
         line_params = self._line_params  # the point counts for this scan's beam spacing
-        segments = segment_scan(points.take(beams, axis=0), beams, layout.increment, line_params)
+        segments = segment_scan(
+            points.take(beams, axis=0), beams, layout.increment, line_params, layout.ring
+        )
         directions = np.empty(len(scan))
         directions.fill(np.nan)
         directions[beams] = segments.directions

@@ -142,6 +142,10 @@ class Segments:
         directions: local line direction per valid point, rad, ``(m,)``.
         across: per segment, its points lie on a line across the direction of travel.
         sizes: points per segment, ``(k,)``.
+        seam_joined: the scan is a full turn and its last segment continues its first
+            across the seam, where the sweep starts and ends: the two would be one
+            segment had the sweep started elsewhere (:func:`pvfilter.improved.claims.
+            seam_claims`).
         memo: what later stages work out from the segments and would otherwise work out
             twice (the points' ranges, the points that lines claim), by what was asked.
     """
@@ -152,6 +156,7 @@ class Segments:
     directions: np.ndarray
     across: np.ndarray
     sizes: np.ndarray
+    seam_joined: bool = False
     memo: dict = dataclasses.field(default_factory=dict, init=False, repr=False)
 
     def __len__(self) -> int:
@@ -223,7 +228,11 @@ class Segments:
 
 
 def segment_scan(
-    points: np.ndarray, beams: np.ndarray, increment: float, params: ImprovedParams
+    points: np.ndarray,
+    beams: np.ndarray,
+    increment: float,
+    params: ImprovedParams,
+    ring: bool = False,
 ) -> Segments:
     """Cut the valid points of a scan into segments (their lines are fitted on demand).
 
@@ -232,6 +241,7 @@ def segment_scan(
         beams: their beam indices, ascending.
         increment: angle between beams, rad.
         params: ``chord_m``, ``line_angle_deg`` and ``break_distance_m`` are used.
+        ring: the beams cover a full turn: the last point neighbours the first.
     """
     m = len(points)
     if m == 0:
@@ -250,6 +260,10 @@ def segment_scan(
     np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
     bounds = _bounds(cuts, m)
     starts = bounds[:-1]
+    seam_joined = False
+    if ring and cuts.size > 0 and across[0] == across[-1]:  # the last point, then the first
+        seam_m = math.hypot(*(points[0] - points[-1]))
+        seam_joined = seam_m <= params.break_distance_m + 0.02 * float(ranges[0])
     segments = Segments(
         beams=beams,
         points=points,
@@ -257,6 +271,7 @@ def segment_scan(
         directions=directions,
         across=across.take(starts),
         sizes=bounds[1:] - starts,
+        seam_joined=seam_joined,
     )
     segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
     segments.memo["bounds"] = bounds  # and Segments.bounds

@@ -8,6 +8,7 @@ import numpy as np
 
 from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.claims import best_claims, extension_claims, spread_claims
+from pvfilter.improved.geometry import floor_distance, implied_tilt
 
 from .conftest import HEIGHT_M
 
@@ -74,3 +75,58 @@ def test_a_scored_piece_of_a_floor_line_claims_the_rest_of_it_at_its_own_score()
     no_spread = dataclasses.replace(PARAMS, spread=False)
     _, best = best_claims(segments, score, no_spread)
     assert (best[on_line] == 0.7).sum() < on_line.sum() / 2
+
+
+def seam_scan(later_tilt_deg: float, ring: bool = True):
+    """A full turn of 720 beams whose sweep starts and ends behind the sensor, on a floor
+    line at 25 deg: the later half measured a turn later at ``later_tilt_deg``, a wall
+    ahead between them. Segments: the earlier half, the wall, the later half."""
+    increment = math.radians(0.5)
+    earlier, later = np.arange(0, 60), np.arange(660, 720)
+    wall = np.arange(300, 420)
+
+    def on_line(beams, x):
+        angles = -math.pi + beams * increment
+        return np.column_stack((np.full(beams.size, x), x * np.tan(angles)))
+
+    def floor_x(tilt_deg):
+        return -float(floor_distance(math.radians(tilt_deg), PARAMS))
+
+    points = np.concatenate(
+        (
+            on_line(earlier, floor_x(25.0)),
+            on_line(wall, 3.0),
+            on_line(later, floor_x(later_tilt_deg)),
+        )
+    )
+    beams = np.concatenate((earlier, wall, later))
+    return segment_scan(points, beams, increment, PARAMS, ring=ring)
+
+
+def test_a_floor_line_cut_by_the_seam_of_a_full_turn_claims_its_later_half():
+    # levelling at 0.3 rad/s, the later half lies 6 cm farther out than the earlier: out of
+    # the spread's reach, and (in a scan) within the margin of the wall behind it
+    segments = seam_scan(later_tilt_deg=22.4)
+    assert segments.seam_joined and len(segments) == 3
+    score = np.array([0.9, 0.0, 0.0])
+    tilt = implied_tilt(segments.distances, PARAMS)
+    sweep_increment_s = 0.1 / 720
+    later = segments.labels == 2
+    _, best = best_claims(segments, score, PARAMS, tilt, -1, sweep_increment_s)
+    assert (best[later] == 0.9).all() and (best[segments.labels == 1] == 0.0).all()
+    _, best = best_claims(segments, score, PARAMS, tilt, +1, sweep_increment_s)
+    assert (best[later] == 0.0).all()  # the line on the up side: no floor line to follow
+    _, best = best_claims(segments, score, PARAMS)  # no tilts: no seam claims
+    assert (best[later] == 0.0).all()
+    _, best = best_claims(seam_scan(22.4, ring=False), score, PARAMS, tilt, -1, 0.1 / 720)
+    assert (best[later] == 0.0).all()
+
+
+def test_a_jump_at_the_seam_the_pitch_cannot_make_is_not_the_line():
+    # the same halves measured 1 ms apart: the pitch moves less than 0.2 deg meanwhile,
+    # so the later half is structure behind the line
+    segments = seam_scan(later_tilt_deg=22.4)
+    score = np.array([0.9, 0.0, 0.0])
+    tilt = implied_tilt(segments.distances, PARAMS)
+    _, best = best_claims(segments, score, PARAMS, tilt, -1, 0.001 / 720)
+    assert (best[segments.labels == 2] == 0.0).all()

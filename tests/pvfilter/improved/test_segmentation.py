@@ -84,6 +84,22 @@ def test_range_jumps_split_segments():
     assert len(segments) == 2 and segments.sizes.tolist() == [10, 10]
 
 
+@pytest.mark.parametrize(
+    ("ring", "behind_m", "joined"), [(True, 1.0, True), (False, 1.0, False), (True, 2.0, False)]
+)
+def test_on_a_full_turn_the_last_segment_continues_the_first_across_the_seam(
+    ring, behind_m, joined
+):
+    # a wall behind the sensor through the seam at 180 deg, a wall ahead between; the
+    # sweep's last stretch of wall at behind_m, its first at 1 m
+    angles = -math.pi + np.arange(720) * INCREMENT
+    beams = np.concatenate((np.arange(0, 40), np.arange(330, 390), np.arange(680, 720)))
+    x = np.where(beams < 300, -1.0, np.where(beams < 600, 2.0, -behind_m))
+    points = np.column_stack((x, x * np.tan(angles[beams])))
+    segments = segment_scan(points, beams, INCREMENT, ImprovedParams(), ring=ring)
+    assert len(segments) == 3 and segments.seam_joined is joined
+
+
 def test_no_points_give_no_segments():
     segments = segment_scan(np.zeros((0, 2)), np.zeros(0, dtype=int), INCREMENT, ImprovedParams())
     assert len(segments) == 0
