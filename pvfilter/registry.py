@@ -29,7 +29,7 @@ from pvfilter.pass_through import NoFilter
 ENTRY_POINT_GROUP = "pvfilter.filters"
 # robot geometry a filter's parameters may hold under these names (m); callers that know
 # the robot (the simulator, a robot's launch file) set them with ``robot_geometry``
-ROBOT_GEOMETRY_FIELDS: tuple[str, ...] = ("lidar_height_m", "axle_height_m")
+ROBOT_GEOMETRY_FIELDS: tuple[str, ...] = ("lidar_height_m", "axle_height_m", "lidar_ahead_m")
 
 
 @dataclasses.dataclass(frozen=True)

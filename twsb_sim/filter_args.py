@@ -97,10 +97,12 @@ def compared_filters(
 
 
 def robot_geometry(scenario: Scenario) -> dict[str, float]:
-    """The scenario robot's LiDAR and axle heights, m, as filters take them."""
+    """The scenario robot's LiDAR and axle heights and how far ahead of the axle the LiDAR
+    sits, m, as filters take them."""
     return {
         "lidar_height_m": scenario.robot.lidar_height_m,
         "axle_height_m": scenario.robot.wheel_radius_m,
+        "lidar_ahead_m": scenario.robot.lidar_offset_x_m,
     }
 
 

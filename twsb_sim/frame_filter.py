@@ -66,7 +66,7 @@ def frame_filter(
         name: the registry name (``paper``, ``improved``, ``datmo``, ...).
         label: the name reports show.
         params: its parameters (defaults when None).
-        geometry: the robot's ``lidar_height_m`` and ``axle_height_m``, m.
+        geometry: the robot's ``lidar_height_m``, ``axle_height_m`` and ``lidar_ahead_m``, m.
         inputs: the robot inputs it is given; by default those it needs.
         truth_inputs: give them noise-free (see :class:`FrameFilter`).
         **fields: parameter values that replace those of ``params``.

@@ -8,6 +8,12 @@ tan p)``. It meets a ceiling at height ``H`` on the other side, at ``(H - h_s) /
 along a parallel line. ``h_s`` itself falls with the tilt as the robot tilts about its
 wheel axle: ``h_s = axle + (h - axle) cos p``.
 
+A scanner mounted ``a`` ahead of the axle (``lidar_ahead_m``) sits ``a`` along the
+plane's own x axis from the plane's point over the axle, whatever the pitch: nose down
+lowers it by ``a sin p``, and every line of the plane lies ``a`` nearer on the side
+ahead and ``a`` farther behind. The formulas hold for distances from that point
+(:func:`axle_distances`).
+
 With a rotating LiDAR the beams of one scan are measured over its whole sweep, and the
 pitch changes meanwhile: a return measured ``dt`` from a line's middle may come from a
 plane up to ``pitch_rate * dt`` flatter, whose floor line lies farther out, without bound
@@ -33,8 +39,23 @@ LEAN_SIGMAS = 3.0  # the lean of a fitted line may exceed the physical bound by 
 # standard deviations of its fit
 
 
+def axle_distances(segments: Segments, params: ImprovedParams) -> np.ndarray:
+    """Distance of each segment's line from the scan plane's point over the axle, m.
+
+    That point lies ``lidar_ahead_m`` behind the sensor, at ``(-a, 0)`` in its frame; the
+    distance of the line ``x . n = c . n`` from it is ``|c . n + a n_x|``: the sensor's
+    distance plus ``a`` for a line ahead, minus ``a`` for one behind.
+    """
+    if params.lidar_ahead_m == 0.0:
+        return segments.distances
+    normals, centroids = segments.normals, segments.centroids
+    along_normal = np.add.reduce(normals * centroids, axis=1)
+    return np.abs(along_normal + params.lidar_ahead_m * normals[:, 0])
+
+
 def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:
-    """The tilt that puts the floor at ``distance_m`` from the sensor, rad (pi/2 nearer).
+    """The tilt that puts the floor at ``distance_m`` from the plane's point over the axle
+    (:func:`axle_distances`), rad (pi/2 nearer).
 
     Solves ``d sin p = axle + (h - axle) cos p`` in closed form: with
     ``R = hypot(d, h - axle)`` and ``phi = atan2(h - axle, d)``, ``p = phi + asin(axle / R)``.
@@ -47,7 +68,8 @@ def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:
 
 
 def floor_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.ndarray:
-    """Distance from the sensor of the floor line of a plane tilted by ``tilt_rad``, m."""
+    """Distance of the floor line of a plane tilted by ``tilt_rad`` from the plane's point
+    over the axle, m (from the sensor for a scanner over the axle)."""
     tilt = np.maximum(np.abs(tilt_rad), 1e-6)
     return params.scanner_height_m(tilt) / np.sin(tilt)
 
@@ -69,7 +91,8 @@ def floor_shift(
 
 
 def ceiling_min_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.ndarray:
-    """Nearest a ceiling (at least ``min_ceiling_m`` high) can be at that tilt, m."""
+    """Nearest a ceiling (at least ``min_ceiling_m`` high) can be at that tilt, m, from the
+    plane's point over the axle."""
     tilt = np.maximum(np.abs(tilt_rad), 1e-6)
     return (params.min_ceiling_m - params.scanner_height_m(tilt)) / np.sin(tilt)
 

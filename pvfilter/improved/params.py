@@ -7,8 +7,8 @@ geometry (segmentation, extension) and the decision (``p_th``, the IMU's error).
 
 The defaults describe a small home TWSB robot (the paper's class: a 2D LiDAR about
 0.25 m above the floor, up to about 1 m/s) and a LiDAR with centimetre range noise. Only
-``lidar_height_m`` (and ``axle_height_m``) are properties of one robot that the user
-should set; ``twsb tune`` fits the others to a robot from generated data
+``lidar_height_m`` (and ``axle_height_m``, ``lidar_ahead_m``) are properties of one
+robot that the user should set; ``twsb tune`` fits the others to a robot from generated data
 (:mod:`pvfilter.params_file` reads the file it writes).
 """
 
@@ -37,6 +37,11 @@ class ImprovedParams:
         axle_height_m: height the robot tilts about (its wheel axle), m: the scanner's
             height at tilt ``p`` is ``axle + (h - axle) cos p`` (``lidar_height_m``: a
             scanner that stays at its height).
+        lidar_ahead_m: how far ahead of the axle the scanner sits, m (negative: behind it),
+            along the robot's x axis. Pitching nose down lowers a scanner ahead of the
+            axle: every floor and ceiling line lies this much nearer on the side ahead, and
+            farther behind, than for a scanner over the axle
+            (:func:`pvfilter.improved.geometry.axle_distances`).
         max_tilt_deg: the largest tilt of the scan plane the robot survives, deg: no floor
             line is nearer than the scanner's height over ``sin`` of it.
         max_roll_deg: the largest roll (side tilt) while it pitches, deg (uneven floors,
@@ -110,6 +115,7 @@ class ImprovedParams:
 
     lidar_height_m: float = 0.25  # m
     axle_height_m: float = 0.08  # m
+    lidar_ahead_m: float = 0.0  # m
     max_tilt_deg: float = 45.0  # deg
     max_roll_deg: float = 3.0  # deg
     max_pitch_rate_rad_s: float = 3.0  # rad/s
@@ -148,6 +154,7 @@ class ImprovedParams:
                 f"axle_height_m: must be <= lidar_height_m ({self.lidar_height_m} m), "
                 f"got {self.axle_height_m}"
             )
+        check_number("lidar_ahead_m", self.lidar_ahead_m, lower=-math.inf, unit="m")
         check_number("max_tilt_deg", self.max_tilt_deg, lower=0.0, upper=90.0, unit="deg")
         check_number("max_roll_deg", self.max_roll_deg, lower=0.0, upper=90.0, unit="deg")
         check_number("max_pitch_rate_rad_s", self.max_pitch_rate_rad_s, lower=0.0, closed=True)
@@ -208,6 +215,7 @@ class ImprovedParams:
 
     @property
     def min_line_distance_m(self) -> float:
-        """Nearest a floor line can be to the sensor, m (at the largest tilt)."""
+        """Nearest a floor line can be to the scan plane's point over the axle, m (at the
+        largest tilt)."""
         tilt = math.radians(self.max_tilt_deg)
         return float(self.scanner_height_m(tilt)) / math.sin(tilt)

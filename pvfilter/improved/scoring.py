@@ -55,6 +55,7 @@ from pvfilter.improved.beams import indices
 from pvfilter.improved.claims import spread_claims
 from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, WorldStatic
 from pvfilter.improved.geometry import (
+    axle_distances,
     ceiling_min_distance,
     floor_shift,
     implied_tilt,
@@ -102,13 +103,20 @@ class SegmentScores:
 
 
 def geometry_gates(
-    segments: Segments, tilt: np.ndarray, time_increment: float, params: ImprovedParams
+    segments: Segments,
+    tilt: np.ndarray,
+    distances: np.ndarray,
+    time_increment: float,
+    params: ImprovedParams,
 ) -> np.ndarray:
-    """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane."""
+    """Per segment: it could be the floor (or ceiling) seen by a tilted scan plane.
+
+    ``distances`` are the lines' distances from the plane's point over the axle, m
+    (:func:`pvfilter.improved.geometry.axle_distances`).
+    """
     bounds = segments.bounds
     first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
     span_s = (last - first) * abs(time_increment)
-    distances = segments.distances
     return (
         segments.across
         & (segments.sizes >= params.min_points)
@@ -168,8 +176,9 @@ def score_segments(
         unknown = np.empty(k)
         unknown.fill(np.nan)  # np.full costs a Python-level call
         return SegmentScores(np.zeros(k), np.zeros(k, bool), share, new_counts, unknown, 0)
-    tilt = implied_tilt(segments.distances, params)
-    gates = geometry_gates(segments, tilt, time_increment, params)
+    distances = axle_distances(segments, params)
+    tilt = implied_tilt(distances, params)
+    gates = geometry_gates(segments, tilt, distances, time_increment, params)
     score = np.where(gates, share, 0.0)
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
@@ -183,14 +192,14 @@ def score_segments(
     score[beyond] *= params.up_side_weight
     down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
     if down != 0 and params.up_side_weight < 1.0:
-        too_near = segments.distances < ceiling_min_distance(down_tilt, params)
+        too_near = distances < ceiling_min_distance(down_tilt, params)
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
         score *= params.up_side_weight
     scan_score = score.copy()
     contradicted = False
     if attitude is not None:
-        agree, beyond, contradict = _imu_agreement(segments, side, tilt, attitude, params)
+        agree, beyond, contradict = _imu_agreement(distances, side, tilt, attitude, params)
         contradicted = bool((beyond & (scan_score > params.p_th)).any())
         # where the floor may be, unless the scan's own evidence says it is not
         support = IMU_SUPPORT * not_static
@@ -309,7 +318,7 @@ def _down_side(
 
 
 def _imu_agreement(
-    segments: Segments,
+    distances: np.ndarray,
     side: np.ndarray,
     tilt: np.ndarray,
     attitude: Attitude,
@@ -319,10 +328,10 @@ def _imu_agreement(
     (a floor there would need more tilt than the IMU's band allows); and it is vetoed (it
     would need more than the band and ``reach_rad`` together)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
-    agree = np.zeros(len(segments), dtype=bool)
+    agree = np.zeros(len(distances), dtype=bool)
     if attitude.tilted:  # else the IMU cannot tell a tilted plane from a level one
         agree = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
-        far = segments.distances >= ceiling_min_distance(magnitude + error, params)
+        far = distances >= ceiling_min_distance(magnitude + error, params)
         agree |= (side == -attitude.down_side) & far
     # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane
     # tilted down on the line's side, the floor is there and only its distance is in doubt

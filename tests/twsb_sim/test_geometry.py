@@ -15,6 +15,8 @@ import mujoco
 import numpy as np
 import pytest
 
+from pvfilter.improved import ImprovedParams
+from pvfilter.improved.geometry import floor_distance
 from twsb_sim.house import Room
 from twsb_sim.house.floorplan import assemble_house
 from twsb_sim.labels import BeamLabel
@@ -113,3 +115,37 @@ def test_nose_up_robot_sees_the_floor_behind_it(sim):
     floor = frame.labels == BeamLabel.FLOOR
     assert floor.any()
     assert (np.cos(frame.scan.angles()[floor]) < 0).all()
+
+
+@pytest.mark.parametrize("pitch_deg", [20.0, -20.0])
+def test_a_lidar_ahead_of_the_axle_meets_the_floor_where_the_filter_puts_it(pitch_deg):
+    # nose down lowers a LiDAR mounted ahead of the axle: the floor line ahead comes that
+    # much nearer, the one behind (nose up) that much farther, as lidar_ahead_m tells the filter
+    house = assemble_house(
+        "box", None, CEILING_M, (Room("room", 0.0, 0.0, ROOM_X_M, ROOM_Y_M),), (), ()
+    )
+    robot = RobotConfig(
+        lidar_offset_x_m=0.12,
+        lidar_offset_y_m=0.0,
+        lidar_tilt_pitch_deg=0.0,
+        lidar_tilt_roll_deg=0.0,
+    )
+    sim = Simulation(house, robot=robot, lidar=LidarConfig.ideal(sweep="instant"), seed=0)
+    pitch = math.radians(pitch_deg)
+    hold_at(sim, 4.0, 3.0, yaw_rad=0.0, pitch_rad=pitch)
+    frame = sim.frame(0)
+    params = ImprovedParams(
+        lidar_height_m=robot.lidar_height_m,
+        axle_height_m=robot.wheel_radius_m,
+        lidar_ahead_m=robot.lidar_offset_x_m,
+    )
+    side = math.copysign(1.0, pitch)  # the floor ahead when nose down
+    angles = frame.scan.angles()
+    beam = int(np.argmin(np.abs(np.angle(np.exp(1j * (angles - (0.0 if side > 0 else math.pi)))))))
+    assert frame.labels[beam] == BeamLabel.FLOOR
+    over_axle = float(floor_distance(abs(pitch), params))
+    assert frame.scan.ranges[beam] == pytest.approx(over_axle - side * 0.12, abs=TOLERANCE_M)
+    sensor_height = frame.truth.position_sensor_in_world[2]
+    assert sensor_height == pytest.approx(
+        float(params.scanner_height_m(pitch)) - 0.12 * math.sin(pitch), abs=1e-6
+    )

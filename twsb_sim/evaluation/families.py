@@ -55,7 +55,7 @@ def family_filter(family: str, value: float, recording: Recording) -> FrameFilte
     if family == "datmo":
         return frame_filter(name, label, truth_inputs=True, speed_threshold_mps=value)
     # the IMU gate keeps a band of +/- value around the scanner's height
-    height = recording.lidar_height_m
+    height = recording.geometry["lidar_height_m"]
     band = {"band_low_m": height - value, "band_high_m": height + value}
     truth = family == "imu_gate_truth"
     return frame_filter(name, label, geometry=recording.geometry, truth_inputs=truth, **band)

@@ -11,6 +11,7 @@ import dataclasses
 
 import mujoco
 
+from twsb_sim.filter_args import robot_geometry
 from twsb_sim.frame import Frame
 from twsb_sim.house import House
 from twsb_sim.runner import build_house, run_scenario, scenario_world
@@ -31,8 +32,10 @@ class Recording:
         seed: the run's seed.
         frames: every LiDAR frame, in time order.
         geom_names: name of every geom of the run's model, indexed by geom id.
-        lidar_height_m: the scanner's height above the floor when upright, m.
-        axle_height_m: the wheel axle's height (the robot pitches about it), m.
+        geometry: the robot's geometry as filters take it
+            (:func:`twsb_sim.filter_args.robot_geometry`: the scanner's height above the
+            floor when upright, the axle's height it pitches about, how far ahead of the
+            axle the scanner sits; m).
         summary: the run's summary (falls, pitch, label counts).
     """
 
@@ -41,18 +44,12 @@ class Recording:
     seed: int
     frames: tuple[Frame, ...]
     geom_names: tuple[str, ...]
-    lidar_height_m: float
-    axle_height_m: float
+    geometry: dict[str, float]
     summary: RunSummary
 
     @property
     def run_id(self) -> str:
         return f"{self.sequence}/{self.house}/seed{self.seed}"
-
-    @property
-    def geometry(self) -> dict[str, float]:
-        """The robot geometry filters take (``robot_geometry`` of :func:`pvfilter.make_filter`)."""
-        return {"lidar_height_m": self.lidar_height_m, "axle_height_m": self.axle_height_m}
 
 
 class _Collect(NullSink):
@@ -134,7 +131,6 @@ def record(scenario: Scenario, house: House, seed: int, progress: bool = False) 
         seed=seed,
         frames=tuple(collect.frames),
         geom_names=names,
-        lidar_height_m=scenario.robot.lidar_height_m,
-        axle_height_m=scenario.robot.wheel_radius_m,
+        geometry=robot_geometry(scenario),
         summary=summary,
     )

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from pvfilter import filter_entry
+from twsb_sim.filter_args import robot_geometry
 from twsb_sim.frame import Frame
 from twsb_sim.labels import is_pitch_variation
 from twsb_sim.robot_inputs import robot_inputs
@@ -64,10 +65,6 @@ def removed_masks(method: str, frames: Sequence[Frame], scenario: Scenario) -> l
         raise ValueError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
     name, fields = FILTERS[method]
     entry = filter_entry(name)
-    geometry = {
-        "lidar_height_m": scenario.robot.lidar_height_m,
-        "axle_height_m": scenario.robot.wheel_radius_m,
-    }
-    scan_filter = entry.make(robot_geometry=geometry, **fields)
+    scan_filter = entry.make(robot_geometry=robot_geometry(scenario), **fields)
     # each filter gets the inputs it needs: the improved filter runs on scans alone here
     return [scan_filter.process(f.scan, **robot_inputs(f, entry.needs)).removed for f in frames]

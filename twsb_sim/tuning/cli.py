@@ -118,8 +118,8 @@ def run_tune(args: argparse.Namespace) -> int:
         episodes(args.heldout_seed, settings["heldout"], ranges, avoid_houses=seen),
         settings["heldout"], "held-out episodes", progress,
     )  # fmt: skip
-    heights = sorted({run.lidar_height_m for run in train})
-    median_height = round(float(np.median([r.lidar_height_m for r in train])), 4)
+    heights = sorted({run.geometry["lidar_height_m"] for run in train})
+    median_height = round(float(np.median([r.geometry["lidar_height_m"] for r in train])), 4)
     base = ImprovedParams(lidar_height_m=median_height)
 
     # the search fits on every third training episode left out; those validate: the best

@@ -17,6 +17,7 @@ import numpy as np
 from pvfilter import Scan
 from twsb_sim.dataset.episode import draw_episode
 from twsb_sim.dataset.randomization import Randomization
+from twsb_sim.filter_args import robot_geometry
 from twsb_sim.frame import Frame
 from twsb_sim.labels import BeamLabel, is_pitch_variation
 from twsb_sim.runner import run_scenario
@@ -37,8 +38,8 @@ class TuningRun:
         static: per scan, bool per beam: a STATIC beam with a finite range.
         attitude: per scan, the robot's attitude estimate (pitch, roll) at the stamp, rad:
             what its IMU and filter give, lag and errors included.
-        lidar_height_m: the robot's scanner height above the floor, m.
-        axle_height_m: its wheel axle's height, m.
+        geometry: the robot's geometry as filters take it
+            (:func:`twsb_sim.filter_args.robot_geometry`, m).
     """
 
     name: str
@@ -48,8 +49,7 @@ class TuningRun:
     finite: np.ndarray
     static: np.ndarray
     attitude: np.ndarray
-    lidar_height_m: float
-    axle_height_m: float
+    geometry: dict[str, float]
 
 
 class _Collect(NullSink):
@@ -79,8 +79,7 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
         finite=finite,
         static=np.array([f.labels == BeamLabel.STATIC for f in frames]) & finite,
         attitude=np.array([f.attitude_estimate for f in frames]),
-        lidar_height_m=scenario.robot.lidar_height_m,
-        axle_height_m=scenario.robot.wheel_radius_m,
+        geometry=robot_geometry(scenario),
     )
 
 

@@ -83,8 +83,7 @@ def sweep(
     counts = np.zeros((len(THRESHOLDS), 3), dtype=np.int64)
     static = np.zeros(len(THRESHOLDS) + 1, dtype=np.int64)  # removed per threshold, total
     for run in runs:
-        geometry = {"lidar_height_m": run.lidar_height_m, "axle_height_m": run.axle_height_m}
-        pvf = make_filter("improved", params, robot_geometry=geometry)
+        pvf = make_filter("improved", params, robot_geometry=run.geometry)
         for k, scan in enumerate(run.scans):
             pitch, roll = run.attitude[k] if imu else (None, None)
             scores = pvf.process(scan, pitch_rad=pitch, roll_rad=roll).scores

@@ -8,6 +8,7 @@ import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.geometry import (
+    axle_distances,
     ceiling_min_distance,
     floor_distance,
     floor_shift,
@@ -15,6 +16,7 @@ from pvfilter.improved.geometry import (
     lean_ok,
     seen_beyond,
 )
+from pvfilter.improved.scoring import geometry_gates
 from pvfilter.improved.sweep import unstretch
 from pvfilter.synthetic import room_segments
 
@@ -178,3 +180,48 @@ def test_nothing_lies_beyond_a_floor_line_but_open_space_beside_a_wall_shows():
     scored[front] = True
     tilts = implied_tilt(segments.distances, LEVEL_SENSOR)
     assert seen_beyond(segments, scored, tilts, 0.0, LEVEL_SENSOR)[front]
+
+
+AHEAD = ImprovedParams(lidar_height_m=0.25, axle_height_m=0.08, lidar_ahead_m=0.15)
+
+
+def ahead_scan(pitch_rad):
+    """A scanner 0.15 m ahead of the axle, pitched about it: nose down lowers it."""
+    arm = AHEAD.lidar_height_m - AHEAD.axle_height_m
+    height = (
+        AHEAD.axle_height_m + arm * math.cos(pitch_rad) - AHEAD.lidar_ahead_m * math.sin(pitch_rad)
+    )
+    scan, hit = tilted_scan(
+        pitch_rad=pitch_rad, height_m=height, walls=room_segments(9.0, 9.0, 6.0, 6.0)
+    )
+    segments, _ = segments_of(scan, AHEAD)
+    return segments, int(np.argmax(segments.sizes * segments.across)), scan, hit
+
+
+@pytest.mark.parametrize("pitch_deg", [-30.0, -12.0, 12.0, 30.0])
+def test_a_scanner_ahead_of_the_axle_meets_the_floor_its_offset_nearer_ahead_farther_behind(
+    pitch_deg,
+):
+    pitch = math.radians(pitch_deg)
+    segments, main, scan, hit = ahead_scan(pitch)
+    side = math.copysign(1.0, pitch)  # the floor ahead when nose down
+    over_axle = float(floor_distance(abs(pitch), AHEAD))  # (axle + arm cos p) / sin p
+    floor_x = scan.points()[hit == 2][:, 0]
+    np.testing.assert_allclose(floor_x, side * (over_axle - side * AHEAD.lidar_ahead_m), atol=1e-9)
+    distances = axle_distances(segments, AHEAD)
+    assert distances[main] == pytest.approx(over_axle, abs=2e-3)
+    assert implied_tilt(distances[main : main + 1], AHEAD)[0] == pytest.approx(
+        abs(pitch), abs=math.radians(0.1)
+    )
+    centred = dataclasses.replace(AHEAD, lidar_ahead_m=0.0)
+    np.testing.assert_array_equal(axle_distances(segments, centred), segments.distances)
+
+
+def test_the_steepest_floor_line_of_a_scanner_ahead_of_the_axle_passes_the_nearest_gate():
+    # nose down 40 deg lowers the scanner to 0.11 m: its floor line lies 0.18 m ahead,
+    # nearer than a scanner over the axle ever sees one (0.28 m at 45 deg)
+    segments, main, _, _ = ahead_scan(math.radians(40.0))
+    for params, passes in ((AHEAD, True), (dataclasses.replace(AHEAD, lidar_ahead_m=0.0), False)):
+        distances = axle_distances(segments, params)
+        tilt = implied_tilt(distances, params)
+        assert geometry_gates(segments, tilt, distances, 0.0, params)[main] == passes

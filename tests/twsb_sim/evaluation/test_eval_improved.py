@@ -21,7 +21,8 @@ ROOM = room_segments(4.0, 4.0, 2.0, 2.0)
 def recording_of(frames) -> Recording:
     return Recording(
         sequence="synthetic", house="none", seed=0, frames=tuple(frames),
-        geom_names=("wall", "floor"), lidar_height_m=0.25, axle_height_m=0.08,
+        geom_names=("wall", "floor"),
+        geometry={"lidar_height_m": 0.25, "axle_height_m": 0.08, "lidar_ahead_m": 0.0},
         summary=RunSummary(scenario="synthetic", seed=0, house="none"),
     )  # fmt: skip
 

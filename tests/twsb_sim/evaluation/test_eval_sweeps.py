@@ -30,8 +30,7 @@ def recording_of(frames) -> Recording:
         seed=0,
         frames=tuple(frames),
         geom_names=("wall", "floor"),
-        lidar_height_m=0.25,
-        axle_height_m=0.08,
+        geometry={"lidar_height_m": 0.25, "axle_height_m": 0.08, "lidar_ahead_m": 0.0},
         summary=RunSummary(scenario="synthetic", seed=0, house="none"),
     )
 

@@ -25,7 +25,7 @@ def synthetic_run(count: int = 60) -> TuningRun:
     return TuningRun(
         name="synthetic", house="room", scans=tuple(sequence.scans), positive=positive,
         finite=finite, static=finite & ~positive, attitude=np.zeros((count, 2)),
-        lidar_height_m=0.25, axle_height_m=0.08,
+        geometry={"lidar_height_m": 0.25, "axle_height_m": 0.08, "lidar_ahead_m": 0.0},
     )  # fmt: skip
 
 
