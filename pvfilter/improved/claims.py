@@ -155,23 +155,25 @@ def seam_claims(
         return none, none
     last = len(segments) - 1
     bounds, claimed, owners = segments.bounds, [], []
-    for line, other in ((0, last), (last, 0)):
-        if not (lines == line).any() or np.sign(segments.centroids[line, 0]) != down_side:
+    # lines ascend: the first and the last segment claim only if they are lines
+    for line, other in ((0, last), (last, 0)) if lines[0] == 0 else ((last, 0),):
+        if line == last and lines[-1] != last:
             continue
-        half = np.arange(bounds[other], bounds[other + 1])
         normal, centre = segments.normals[line], segments.centroids[line]
-        outward = math.copysign(1.0, float(centre @ normal))  # the normal, away from the sensor
-        offset_m = (segments.points.take(half, axis=0) @ normal - centre @ normal) * outward
-        next_to_seam = (
-            slice(-params.min_points, None) if other == last else slice(params.min_points)
-        )
-        jump_m = float(np.median(offset_m[next_to_seam]))
+        if math.copysign(1.0, centre[0]) != down_side:
+            continue
+        level = float(centre @ normal)
+        outward = math.copysign(1.0, level)  # the normal, away from the sensor
+        half = np.arange(bounds[other], bounds[other + 1])
+        seam_end = half[-params.min_points :] if other == last else half[: params.min_points]
+        jump_m = _middle(segments.points.take(seam_end, axis=0) @ normal - level) * outward
         if abs(jump_m) <= params.extend_tolerance_m:  # on the line itself: the spread's
             continue
         if abs(jump_m) > _pitch_jump_bound(
             segments, line, other, tilt_rad, jump_m, time_increment, params
         ):
             continue
+        offset_m = (segments.points.take(half, axis=0) @ normal - level) * outward
         direction = segments.directions.take(half)
         crossing = np.abs(np.cos(direction) * normal[0] + np.sin(direction) * normal[1])
         tolerance = params.extend_tolerance_m + 0.01 * segments.ranges.take(half)
@@ -183,6 +185,13 @@ def seam_claims(
     if not claimed:
         return none, none
     return np.concatenate(claimed), np.concatenate(owners)
+
+
+def _middle(values: np.ndarray) -> float:
+    """The median of a few values (np.median costs many times more on a handful)."""
+    ordered = sorted(values.tolist())
+    n = len(ordered)
+    return 0.5 * (ordered[(n - 1) // 2] + ordered[n // 2])
 
 
 def _pitch_jump_bound(

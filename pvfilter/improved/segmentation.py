@@ -262,8 +262,9 @@ def segment_scan(
     starts = bounds[:-1]
     seam_joined = False
     if ring and cuts.size > 0 and across[0] == across[-1]:  # the last point, then the first
-        seam_m = math.hypot(*(points[0] - points[-1]))
-        seam_joined = seam_m <= params.break_distance_m + 0.02 * float(ranges[0])
+        (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()  # (floats: no ufuncs)
+        seam_m = math.hypot(x0 - x1, y0 - y1)
+        seam_joined = seam_m <= params.break_distance_m + 0.02 * math.hypot(x0, y0)
     segments = Segments(
         beams=beams,
         points=points,
