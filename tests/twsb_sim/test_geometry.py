@@ -29,20 +29,25 @@ CEILING_M = 2.5
 TOLERANCE_M = 1e-3
 
 
-@pytest.fixture(scope="module")
-def sim() -> Simulation:
+def box_simulation(lidar_ahead_m: float = 0.0) -> Simulation:
+    """The robot in the box room, to be held at a pose: a global-shutter scanner without
+    reading errors, mounted level on the axle's centre line (``lidar_ahead_m`` ahead of
+    the axle) as the closed forms assume."""
     house = assemble_house(
         "box", None, CEILING_M, (Room("room", 0.0, 0.0, ROOM_X_M, ROOM_Y_M),), (), ()
     )
-    # the robot is held at a pose: a global-shutter scanner without reading errors, mounted
-    # level on the axle's centre line as the closed forms assume
     robot = RobotConfig(
-        lidar_offset_x_m=0.0,
+        lidar_offset_x_m=lidar_ahead_m,
         lidar_offset_y_m=0.0,
         lidar_tilt_pitch_deg=0.0,
         lidar_tilt_roll_deg=0.0,
     )
     return Simulation(house, robot=robot, lidar=LidarConfig.ideal(sweep="instant"), seed=0)
+
+
+@pytest.fixture(scope="module")
+def sim() -> Simulation:
+    return box_simulation()
 
 
 def hold_at(sim: Simulation, x_m: float, y_m: float, yaw_rad: float, pitch_rad: float) -> None:
@@ -121,16 +126,8 @@ def test_nose_up_robot_sees_the_floor_behind_it(sim):
 def test_a_lidar_ahead_of_the_axle_meets_the_floor_where_the_filter_puts_it(pitch_deg):
     # nose down lowers a LiDAR mounted ahead of the axle: the floor line ahead comes that
     # much nearer, the one behind (nose up) that much farther, as lidar_ahead_m tells the filter
-    house = assemble_house(
-        "box", None, CEILING_M, (Room("room", 0.0, 0.0, ROOM_X_M, ROOM_Y_M),), (), ()
-    )
-    robot = RobotConfig(
-        lidar_offset_x_m=0.12,
-        lidar_offset_y_m=0.0,
-        lidar_tilt_pitch_deg=0.0,
-        lidar_tilt_roll_deg=0.0,
-    )
-    sim = Simulation(house, robot=robot, lidar=LidarConfig.ideal(sweep="instant"), seed=0)
+    sim = box_simulation(lidar_ahead_m=0.12)
+    robot = sim.robot_config
     pitch = math.radians(pitch_deg)
     hold_at(sim, 4.0, 3.0, yaw_rad=0.0, pitch_rad=pitch)
     frame = sim.frame(0)
