@@ -155,9 +155,8 @@ def seam_claims(
         return none, none
     last = len(segments) - 1
     bounds, claimed, owners = segments.bounds, [], []
-    # lines ascend: the first and the last segment claim only if they are lines
-    for line, other in ((0, last), (last, 0)) if lines[0] == 0 else ((last, 0),):
-        if line == last and lines[-1] != last:
+    for line, other in ((0, last), (last, 0)):
+        if line not in (lines[0], lines[-1]):  # (lines ascend: only there can it be)
             continue
         normal, centre = segments.normals[line], segments.centroids[line]
         if math.copysign(1.0, centre[0]) != down_side:

@@ -144,8 +144,8 @@ class Segments:
         sizes: points per segment, ``(k,)``.
         seam_joined: the scan is a full turn and its last segment continues its first
             across the seam, where the sweep starts and ends: the two would be one
-            segment had the sweep started elsewhere (:func:`pvfilter.improved.claims.
-            seam_claims`).
+            segment had the sweep started elsewhere
+            (:func:`pvfilter.improved.claims.seam_claims`).
         memo: what later stages work out from the segments and would otherwise work out
             twice (the points' ranges, the points that lines claim), by what was asked.
     """
