@@ -7,7 +7,13 @@ import math
 import numpy as np
 
 from pvfilter.scan import Scan
-from pvfilter.synthetic import BLOCKED_SECTOR, ray_cast, room_segments, segment_scan
+from pvfilter.synthetic import (
+    BEAMS_PER_TURN,
+    BLOCKED_SECTOR,
+    ray_cast,
+    room_segments,
+    segment_scan,
+)
 
 HEIGHT_M = 0.25  # the scan plane's height above the floor, m
 ROOM = room_segments(4.0, 4.0, 2.5, 2.5)  # world frame, m: 8 m x 5 m around the origin
@@ -35,8 +41,10 @@ def room_scan(
     noise_m: float = 0.01,
     seed: int = 0,
     extra: np.ndarray | None = None,
+    beams: int = BEAMS_PER_TURN,
 ):
-    """A 720-beam scan of the room from ``pose``; with a pitch, the floor line too.
+    """A scan of the room from ``pose`` (``beams`` per turn); with a pitch, the floor line
+    too.
 
     Returns:
         The scan, and per beam whether it hit the floor line.
@@ -52,6 +60,7 @@ def room_scan(
         noise_m=noise_m,
         rng=rng,
         blocked=BLOCKED_SECTOR,
+        beams=beams,
     )
     angles = scan.angles()
     on_floor = np.isfinite(scan.ranges) & (ray_cast(floor, angles) < ray_cast(structure, angles))

@@ -85,10 +85,11 @@ def precision(removed, positive):
     return (removed & positive).sum() / max(removed.sum(), 1)
 
 
-def test_every_frame_of_a_pitch_event_is_removed_and_little_else():
+@pytest.mark.parametrize("beams", [360, 720, 1440])  # 1, 0.5 and 0.25 deg between beams
+def test_every_frame_of_a_pitch_event_is_removed_and_little_else(beams):
     params = ImprovedParams(lidar_height_m=HEIGHT_M)
     scans = []
-    results, truth = run(ImprovedPitchVariationFilter(params), drive(), scans=scans)
+    results, truth = run(ImprovedPitchVariationFilter(params), drive(beams=beams), scans=scans)
     removed, positive = np.array([r.removed for r in results]), np.array(truth)
     event_frames = np.flatnonzero(positive.any(axis=1))
     assert event_frames.size >= 5
