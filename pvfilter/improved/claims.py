@@ -113,11 +113,8 @@ def _spread_claims(
     near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
     near &= points.dot(centres.T) > 0.0  # on the line's side of the sensor
     point, line = near.nonzero()  # (few: most points lie on no line)
-    # running along the line, not crossing it (a wall the line runs into)
-    direction = segments.directions.take(point)
     normal = normals.take(line, axis=0)
-    crossing = np.abs(np.cos(direction) * normal[:, 0] + np.sin(direction) * normal[:, 1])
-    along = crossing < math.sin(math.radians(params.line_angle_deg))  # NaN compares False
+    along = _runs_along(segments.directions.take(point), normal[:, 0], normal[:, 1], params)
     return point[along], lines.take(line[along])
 
 
@@ -173,17 +170,26 @@ def seam_claims(
         ):
             continue
         offset_m = (segments.points.take(half, axis=0) @ normal - level) * outward
-        direction = segments.directions.take(half)
-        crossing = np.abs(np.cos(direction) * normal[0] + np.sin(direction) * normal[1])
         tolerance = params.extend_tolerance_m + 0.01 * segments.ranges.take(half)
-        on = (np.abs(offset_m - jump_m) <= tolerance) & (
-            crossing < math.sin(math.radians(params.line_angle_deg))
-        )
+        on = np.abs(offset_m - jump_m) <= tolerance
+        on &= _runs_along(segments.directions.take(half), normal[0], normal[1], params)
         claimed.append(half[on])
         owners.append(np.full(np.count_nonzero(on), line, dtype=np.intp))
     if not claimed:
         return none, none
     return np.concatenate(claimed), np.concatenate(owners)
+
+
+def _runs_along(
+    directions: np.ndarray,
+    normal_x: np.ndarray | float,
+    normal_y: np.ndarray | float,
+    params: ImprovedParams,
+) -> np.ndarray:
+    """Per point: its local direction runs along its line (within ``line_angle_deg``), not
+    across it as a wall the line runs into does (NaN directions: False)."""
+    crossing = np.abs(np.cos(directions) * normal_x + np.sin(directions) * normal_y)
+    return crossing < math.sin(math.radians(params.line_angle_deg))
 
 
 def _middle(values: np.ndarray) -> float:
