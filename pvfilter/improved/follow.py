@@ -22,8 +22,10 @@ would hold the view off it, and keep it new, for as long as it is seen.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from pvfilter.improved.clusters import LineDetection
 from pvfilter.improved.motion import Motion
@@ -31,6 +33,9 @@ from pvfilter.improved.params import ImprovedParams
 
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
+TURN_TOLERANCE = math.radians(3.0)  # rad: how far a line's direction in the sensor frame
+# may be from where a line fixed in the world would have turned to, and still be that line
+# (the fitted direction's error and the roll's change over ``FOLLOW_S``)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,6 +46,8 @@ class StrongLine:
         side: +1 ahead (nose down), -1 behind (nose up).
         tilt_rad: the tilt that puts the floor on it, rad.
         distance_m: its distance from the sensor, m.
+        lean_rad: the direction of its normal from the sensor's x axis, rad, in
+            ``[-pi/2, pi/2)`` (:func:`lean`).
         stamp: the scan's stamp, s.
         pose: the sensor's pose then, from the fixed frame of the filter's
             :class:`~pvfilter.improved.evidence.RecentScans` (to tell how far it has
@@ -50,6 +57,7 @@ class StrongLine:
     side: int
     tilt_rad: float
     distance_m: float
+    lean_rad: float
     stamp: float
     pose: Motion
 
@@ -67,7 +75,20 @@ class StrongLine:
             return None
         strongest = int(np.argmax(np.where(on_side, scores.new_counts, -1.0)))
         distance = float(segments.distances[strongest])
-        return cls(detection.down_side, tilt, distance, detection.scan.stamp, pose)
+        normal_x, normal_y = segments.normals[strongest].tolist()
+        direction = float(lean(normal_y, normal_x))
+        return cls(detection.down_side, tilt, distance, direction, detection.scan.stamp, pose)
+
+
+def lean(normal_y: ArrayLike, normal_x: ArrayLike) -> np.ndarray:
+    """The direction of a line's normal from the x axis, rad, in ``[-pi/2, pi/2)`` (a
+    normal and its opposite are one line): per element for arrays, as ``np.arctan2``."""
+    return folded(np.arctan2(normal_y, normal_x))
+
+
+def folded(angle_rad: ArrayLike) -> np.ndarray:
+    """An angle between line directions, rad, folded into ``[-pi/2, pi/2)``."""
+    return (angle_rad + 0.5 * math.pi) % math.pi - 0.5 * math.pi
 
 
 class FloorFollower:
@@ -107,11 +128,16 @@ class FloorFollower:
         followed = scores.gates & (scores.new_counts > 0)
         followed &= np.sign(segments.centroids[:, 0]) == latest.side
         followed &= np.abs(scores.tilt_rad - latest.tilt_rad) <= reach
-        # where the earliest line would lie now had it stayed put in the world
-        travel = earliest.pose.inverse().then(pose).tx_m
-        staying = earliest.distance_m - earliest.side * travel
+        # where the earliest line would lie now had it stayed put in the world: moved
+        # along x by the sensor's travel, turned back by its turn
+        since = earliest.pose.inverse().then(pose)
+        staying = earliest.distance_m - earliest.side * since.tx_m
         margin = params.free_margin_m + params.free_margin_rel * earliest.distance_m
-        followed &= np.abs(segments.distances - staying) > margin
+        moved = np.abs(segments.distances - staying) > margin
+        normals = segments.normals
+        turned_to = earliest.lean_rad - since.theta_rad
+        turned = np.abs(folded(lean(normals[:, 1], normals[:, 0]) - turned_to)) > TURN_TOLERANCE
+        followed &= moved | turned
         if not np.count_nonzero(followed):
             return None
         beams = np.zeros(len(detection.scan), dtype=bool)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
-from pvfilter.improved.follow import FOLLOW_S, FloorFollower, StrongLine
+from pvfilter.improved.follow import FOLLOW_S, TURN_TOLERANCE, FloorFollower, StrongLine, lean
 from pvfilter.improved.motion import Motion
 
 from .conftest import HEIGHT_M, tilted_scan
@@ -48,23 +48,49 @@ def test_a_floor_line_is_followed_on_its_side_within_the_pitch_rate_s_reach_if_i
     detection = result.lines
     on_floor = hit == 2
     before, still = scan.stamp - 0.1, Motion()
-    line = StrongLine(-1, math.radians(12.0), 1.2, before, still)  # 0.3 m nearer
+    line = StrongLine(-1, math.radians(12.0), 1.2, 0.0, before, still)  # 0.3 m nearer
     followed = _follower_with(line).followed(detection, still)
     assert followed is not None and followed[on_floor].mean() > 0.9
     assert not followed[~on_floor].any()
     # the other side, a tilt beyond the reach, a line seen too long ago: not followed
-    other_side = StrongLine(1, math.radians(12.0), 1.2, before, still)
-    far_tilt = StrongLine(-1, math.radians(40.0), 1.2, before, still)
-    old = StrongLine(-1, math.radians(12.0), 1.2, scan.stamp - 1.5 * FOLLOW_S, still)
+    other_side = StrongLine(1, math.radians(12.0), 1.2, 0.0, before, still)
+    far_tilt = StrongLine(-1, math.radians(40.0), 1.2, 0.0, before, still)
+    old = StrongLine(-1, math.radians(12.0), 1.2, 0.0, scan.stamp - 1.5 * FOLLOW_S, still)
     for other in (other_side, far_tilt, old):
         assert _follower_with(other).followed(detection, still) is None
     # a line where the earlier one lies had it stayed put in the world: a wall, not
     # followed (the sensor standing: at its distance; the sensor 0.3 m farther forward
     # since, so 0.3 m farther from a line behind it)
-    standing = StrongLine(-1, math.radians(12.0), 1.5, before, still)
-    drove_on = StrongLine(-1, math.radians(12.0), 1.2, before, Motion(0.0, -0.3, 0.0))
+    standing = StrongLine(-1, math.radians(12.0), 1.5, 0.0, before, still)
+    drove_on = StrongLine(-1, math.radians(12.0), 1.2, 0.0, before, Motion(0.0, -0.3, 0.0))
     for wall in (standing, drove_on):
         assert _follower_with(wall).followed(detection, still) is None
+
+
+def test_a_floor_line_held_through_a_turn_in_place_is_followed_and_a_turned_wall_is_not():
+    # turning about the sensor leaves a line's distance as it was: only its direction in
+    # the sensor frame tells a floor line that keeps its place there from a wall fixed in
+    # the world, which turns the other way
+    _, result, scan, hit, _ = _nose_up_event(PARAMS, faint_second_scan=False)
+    detection, on_floor = result.lines, hit == 2
+    before, turned = scan.stamp - 0.1, Motion(math.radians(12.0), 0.0, 0.0)
+    held = StrongLine(-1, math.radians(12.0), 1.5, 0.0, before, Motion())
+    followed = _follower_with(held).followed(detection, turned)
+    assert followed is not None and followed[on_floor].mean() > 0.9
+    assert not followed[~on_floor].any()
+    # the line seen 12 deg the other way before the turn: a wall the turn brought here
+    wall = StrongLine(-1, math.radians(12.0), 1.5, math.radians(12.0), before, Motion())
+    assert _follower_with(wall).followed(detection, turned) is None
+    # within the tolerance of a line that stayed put, the line is not taken as turned
+    slight = Motion(0.5 * TURN_TOLERANCE, 0.0, 0.0)
+    assert _follower_with(held).followed(detection, slight) is None
+
+
+def test_line_directions_fold_a_normal_and_its_opposite_into_one():
+    normals = np.array([[1.0, 0.0], [-1.0, 0.0], [-1.0, -1e-9], [0.6, 0.8], [-0.6, -0.8]])
+    directions = lean(normals[:, 1], normals[:, 0])
+    np.testing.assert_allclose(directions, [0.0, 0.0, 1e-9, 0.9273, 0.9273], atol=1e-4)
+    assert (directions >= -0.5 * math.pi).all() and (directions < 0.5 * math.pi).all()
 
 
 def test_the_view_does_not_come_closer_behind_a_faint_continuation_of_a_floor_line():
