@@ -1,6 +1,9 @@
 """Line detection, the recipe: score the segments, let the lines claim points, build the
 clusters.
 
+0. **Corners** (:mod:`pvfilter.improved.corners`): in a scan with new points (or an IMU
+   that shows the plane tilted), a segment that is two lines meeting at an angle, a floor
+   line running into an oblique wall, is cut in two.
 1. **Scoring** (:mod:`pvfilter.improved.scoring`): per segment, the share of its points in
    previously free space, the tilted-plane geometry gates, the two sides of a tilted
    plane, and the IMU's agreement.
@@ -21,6 +24,7 @@ import numpy as np
 
 from pvfilter.improved.claims import best_claims
 from pvfilter.improved.clusters import LineDetection, build_detection
+from pvfilter.improved.corners import split_at_corners
 from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.motion import Motion
@@ -65,6 +69,8 @@ def detect_lines(
     """
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
+    if np.count_nonzero(new_valid) or (attitude is not None and attitude.tilted):
+        segments = split_at_corners(segments, params)  # (the points stay in their order)
     scores = score_segments(
         segments, new_valid, scan.time_increment, attitude, params, static, through_valid
     )

@@ -190,7 +190,7 @@ class ImprovedPitchVariationFilter:
         if attitude is not None:
             scores = detection.segment_scores
             guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
-            confident = None if guessed else line_pitch(prepared.segments, scores, line_params)
+            confident = None if guessed else line_pitch(detection.segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(prepared, found, outcome.coast)

@@ -70,7 +70,7 @@ def _chord_directions(
     """
     m = len(points)
     at = np.arange(m)
-    bounds = _bounds(ends, m)
+    bounds = bounds_of(ends, m)
     first, after = bounds[:-1], bounds[1:]
     lengths = after - first
     low = np.maximum(at - half_width, first.repeat(lengths))
@@ -87,7 +87,7 @@ def _chord_directions(
     return angle
 
 
-def _bounds(cuts: np.ndarray, m: int) -> np.ndarray:
+def bounds_of(cuts: np.ndarray, m: int) -> np.ndarray:
     """``0``, the ``cuts``, then ``m``: the first index of every run and the end of the last
     (np.concatenate with a list converts the list to an array first, at more cost)."""
     bounds = np.empty(cuts.size + 2, dtype=np.intp)
@@ -258,7 +258,7 @@ def segment_scan(
     labels = np.zeros(m, dtype=np.intp)
     labels[cuts] = 1
     np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
-    bounds = _bounds(cuts, m)
+    bounds = bounds_of(cuts, m)
     starts = bounds[:-1]
     seam_joined = False
     if ring and cuts.size > 0 and across[0] == across[-1]:  # the last point, then the first
