@@ -2,11 +2,13 @@
 clusters.
 
 0. **Corners** (:mod:`pvfilter.improved.corners`): in a scan with new points (or an IMU
-   that shows the plane tilted), a segment that is two lines meeting at an angle, a floor
-   line running into an oblique wall, is cut in two.
+   that shows the plane tilted, or a floor line held through a turn), a segment that is
+   two lines meeting at an angle, a floor line running into an oblique wall, is cut in
+   two.
 1. **Scoring** (:mod:`pvfilter.improved.scoring`): per segment, the share of its points in
    previously free space, the tilted-plane geometry gates, the two sides of a tilted
-   plane, and the IMU's agreement.
+   plane, the IMU's agreement, and the place of a floor line held through a turn in
+   place (:class:`~pvfilter.improved.scoring.HeldLine`).
 2. **Claims** (:mod:`pvfilter.improved.claims`): a scored line takes in the points at its
    ends that lie on it and, with ``spread``, every point of the scan on it (on a full
    turn, across the seam too); each point goes to the best-scoring line that takes it in.
@@ -29,7 +31,7 @@ from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.scoring import score_segments
+from pvfilter.improved.scoring import HeldLine, score_segments
 from pvfilter.improved.segmentation import Segments
 from pvfilter.scan import Scan
 
@@ -49,6 +51,7 @@ def detect_lines(
     through: np.ndarray | None = None,
     level_view_m: np.ndarray | None = None,
     coasted: bool = False,
+    held: HeldLine | None = None,
 ) -> LineDetection:
     """Score every segment, detect the lines, extend them, and build the clusters.
 
@@ -66,13 +69,15 @@ def detect_lines(
         level_view_m: the level view per beam the scan was compared with, m (kept in the
             result; None: none).
         coasted: the scan's motion is the prior's (kept in the result).
+        held: the floor line of a tilt held through a turn in place (None: none).
     """
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
-    if np.count_nonzero(new_valid) or (attitude is not None and attitude.tilted):
+    tilted = attitude is not None and attitude.tilted
+    if np.count_nonzero(new_valid) or tilted or held is not None:
         segments = split_at_corners(segments, params)  # (the points stay in their order)
     scores = score_segments(
-        segments, new_valid, scan.time_increment, attitude, params, static, through_valid
+        segments, new_valid, scan.time_increment, attitude, params, static, through_valid, held
     )
     scored = np.count_nonzero(scores.scores) > 0
     if scored:

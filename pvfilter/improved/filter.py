@@ -256,6 +256,8 @@ class ImprovedPitchVariationFilter:
             blind,
             unseen_travel,
         )
+        # a floor line held through a turn in place keeps its place in the sensor frame
+        held = self._follower.held(scan.stamp, self._recent.pose)
         # detect: score segments, claim the points on the lines, build the clusters
         detection = detect_lines(
             scan,
@@ -270,6 +272,7 @@ class ImprovedPitchVariationFilter:
             through,
             None if view is None else view.ranges,
             outcome.coast,
+            held,
         )
         return _Found(detection, new, view, level_ranges)
 

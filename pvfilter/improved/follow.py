@@ -22,20 +22,17 @@ would hold the view off it, and keep it new, for as long as it is seen.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from pvfilter.improved.clusters import LineDetection
+from pvfilter.improved.geometry import TURN_TOLERANCE, folded, line_lean
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
+from pvfilter.improved.scoring import HeldLine
 
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
-TURN_TOLERANCE = math.radians(3.0)  # rad: how far a line's direction in the sensor frame
-# may be from where a line fixed in the world would have turned to, and still be that line
-# (the fitted direction's error and the roll's change over ``FOLLOW_S``)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -47,7 +44,7 @@ class StrongLine:
         tilt_rad: the tilt that puts the floor on it, rad.
         distance_m: its distance from the sensor, m.
         lean_rad: the direction of its normal from the sensor's x axis, rad, in
-            ``[-pi/2, pi/2)`` (:func:`lean`).
+            ``[-pi/2, pi/2)`` (:func:`~pvfilter.improved.geometry.line_lean`).
         stamp: the scan's stamp, s.
         pose: the sensor's pose then, from the fixed frame of the filter's
             :class:`~pvfilter.improved.evidence.RecentScans` (to tell how far it has
@@ -76,19 +73,8 @@ class StrongLine:
         strongest = int(np.argmax(np.where(on_side, scores.new_counts, -1.0)))
         distance = float(segments.distances[strongest])
         normal_x, normal_y = segments.normals[strongest].tolist()
-        direction = float(lean(normal_y, normal_x))
+        direction = float(line_lean(normal_y, normal_x))
         return cls(detection.down_side, tilt, distance, direction, detection.scan.stamp, pose)
-
-
-def lean(normal_y: ArrayLike, normal_x: ArrayLike) -> np.ndarray:
-    """The direction of a line's normal from the x axis, rad, in ``[-pi/2, pi/2)`` (a
-    normal and its opposite are one line): per element for arrays, as ``np.arctan2``."""
-    return folded(np.arctan2(normal_y, normal_x))
-
-
-def folded(angle_rad: ArrayLike) -> np.ndarray:
-    """An angle between line directions, rad, folded into ``[-pi/2, pi/2)``."""
-    return (angle_rad + 0.5 * math.pi) % math.pi - 0.5 * math.pi
 
 
 class FloorFollower:
@@ -119,6 +105,24 @@ class FloorFollower:
             self.lines.append(line)
         return beams
 
+    def held(self, stamp: float, pose: Motion) -> HeldLine | None:
+        """The floor line of a held tilt: the earliest strong line within ``FOLLOW_S``, if
+        the sensor turned since by more than twice ``TURN_TOLERANCE`` (None: no strong
+        line, or too little turn to tell it from a wall fixed in the world).
+
+        Args:
+            stamp: the scan's stamp, s.
+            pose: the sensor's pose now, from the fixed frame the strong lines' poses are in.
+        """
+        recent = [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
+        if not recent:
+            return None
+        earliest = recent[0]  # the longest turn to tell by
+        turn = earliest.pose.inverse().then(pose).theta_rad
+        if abs(turn) <= 2.0 * TURN_TOLERANCE:
+            return None
+        return HeldLine(earliest.side, earliest.tilt_rad, earliest.lean_rad)
+
     def _continuing(self, detection: LineDetection, pose: Motion) -> np.ndarray | None:
         params, scores, segments = self.params, detection.segment_scores, detection.segments
         if scores.gates.size == 0:
@@ -136,7 +140,9 @@ class FloorFollower:
         moved = np.abs(segments.distances - staying) > margin
         normals = segments.normals
         turned_to = earliest.lean_rad - since.theta_rad
-        turned = np.abs(folded(lean(normals[:, 1], normals[:, 0]) - turned_to)) > TURN_TOLERANCE
+        turned = (
+            np.abs(folded(line_lean(normals[:, 1], normals[:, 0]) - turned_to)) > TURN_TOLERANCE
+        )
         followed &= moved | turned
         if not np.count_nonzero(followed):
             return None

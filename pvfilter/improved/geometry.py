@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from pvfilter.improved.beams import indices
 from pvfilter.improved.params import ImprovedParams
@@ -182,3 +183,19 @@ def seen_beyond(
     proof = beyond[line, point] > bend
     seen[lines] = np.bincount(line[proof], minlength=lines.size) >= HORIZON_POINTS
     return seen
+
+
+TURN_TOLERANCE = math.radians(3.0)  # rad: how far a line's direction in the sensor frame
+# may be from where it is expected (turned with the world, or kept with the sensor) and
+# still be that line (the fitted direction's error and the roll's change over 0.3 s)
+
+
+def line_lean(normal_y: ArrayLike, normal_x: ArrayLike) -> np.ndarray:
+    """The direction of a line's normal from the sensor's x axis, rad, in ``[-pi/2,
+    pi/2)`` (a normal and its opposite are one line): per element, as ``np.arctan2``."""
+    return folded(np.arctan2(normal_y, normal_x))
+
+
+def folded(angle_rad: ArrayLike) -> np.ndarray:
+    """An angle between line directions, rad, folded into ``[-pi/2, pi/2)``."""
+    return (angle_rad + 0.5 * math.pi) % math.pi - 0.5 * math.pi

@@ -55,11 +55,14 @@ from pvfilter.improved.beams import indices
 from pvfilter.improved.claims import spread_claims
 from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, WorldStatic
 from pvfilter.improved.geometry import (
+    TURN_TOLERANCE,
     axle_distances,
     ceiling_min_distance,
     floor_shift,
+    folded,
     implied_tilt,
     lean_ok,
+    line_lean,
     seen_beyond,
 )
 from pvfilter.improved.imu import Attitude
@@ -71,6 +74,33 @@ COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within
 # margin) counts this much against a line's share of new points (see the module docstring)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
+HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
+# keeps the held floor line's place lies at a tilt within this of it (a wall that the turn
+# brought to the line's direction lies at its own distance, most often another tilt)
+
+
+@dataclasses.dataclass(frozen=True)
+class HeldLine:
+    """The floor line of a tilt held while the sensor turns in place (from
+    :meth:`pvfilter.improved.follow.FloorFollower.held`): a strong line of the last scans,
+    and the sensor has turned since by more than twice ``TURN_TOLERANCE``.
+
+    A line fixed in the world turns the other way in the sensor frame; the floor line of a
+    held tilt keeps its place there, at one distance and in one direction, while the
+    structure behind it turns past. It can settle within the free-space margin of what lies
+    behind (furniture the robot stopped at), and lose the new points that made it strong:
+    a gated segment on its side, in its direction (within ``TURN_TOLERANCE``) and at its
+    tilt (within ``HELD_TILT_TOLERANCE``) is the same line.
+
+    Attributes:
+        side: +1 ahead, -1 behind.
+        tilt_rad: the tilt that puts the floor on it, rad.
+        lean_rad: its normal's direction from the x axis, rad (``geometry.line_lean``).
+    """
+
+    side: int
+    tilt_rad: float
+    lean_rad: float
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -82,7 +112,8 @@ class SegmentScores:
         gates: per segment, it passes the geometry gates.
         share_new: per segment, the share of its points that are new (points that
             coincide with the level view weighted by ``COINCIDENT_WEIGHT``).
-        new_counts: per segment, its new points.
+        new_counts: per segment, its new points (a segment that keeps a held tilt's floor
+            line's place counts as strong: at least ``down_side_min_new``).
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
@@ -142,6 +173,7 @@ def score_segments(
     params: ImprovedParams,
     static: WorldStatic | None = None,
     through_valid: np.ndarray | None = None,
+    held: HeldLine | None = None,
 ) -> SegmentScores:
     """Score every segment (see the module docstring).
 
@@ -153,6 +185,8 @@ def score_segments(
         params: the filter's parameters.
         static: the world-static test against an earlier scan (None: no earlier scan).
         through_valid: per valid point, it lies beyond the level view (None: none does).
+        held: the floor line of a tilt held through a turn in place (None: none): a
+            segment that keeps its place scores at least ``CONFIDENT_SCORE``.
     """
     k, labels = len(segments), segments.labels
     any_new = np.count_nonzero(new_valid) > 0  # (count_nonzero: any() without Python layers)
@@ -166,11 +200,12 @@ def score_segments(
         new_counts, share = np.zeros(k), np.zeros(k)
     imu_tilted = attitude is not None and attitude.tilted
     # lines are fitted only when a segment across the direction of travel has new points,
-    # or the IMU says the plane is tilted (most scans: neither)
-    fitted = any_new or imu_tilted
+    # the IMU says the plane is tilted, or a held tilt's floor line is followed (most
+    # scans: none of them)
+    fitted = any_new or imu_tilted or held is not None
     if fitted:
         candidates = segments.across & (segments.sizes >= params.min_points)
-        fitted = imu_tilted or np.count_nonzero(candidates & (share > 0.0)) > 0
+        fitted = imu_tilted or held is not None or np.count_nonzero(candidates & (share > 0.0)) > 0
         fitted = fitted and np.count_nonzero(candidates) > 0
     if not fitted:
         unknown = np.empty(k)
@@ -206,9 +241,30 @@ def score_segments(
         support[beyond] *= params.up_side_weight
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - support), score)
         score[contradict] *= params.up_side_weight
+    if held is not None:
+        kept = _keeps_place(segments, gates, side, tilt, held)
+        if np.count_nonzero(kept):
+            score = np.where(kept, np.maximum(score, CONFIDENT_SCORE), score)
+            scan_score = np.where(kept, np.maximum(scan_score, CONFIDENT_SCORE), scan_score)
+            new_counts = np.where(
+                kept, np.maximum(new_counts, params.down_side_min_new), new_counts
+            )
+            if down == 0:
+                down, down_tilt = held.side, held.tilt_rad
     return SegmentScores(
         score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
     )
+
+
+def _keeps_place(
+    segments: Segments, gates: np.ndarray, side: np.ndarray, tilt: np.ndarray, held: HeldLine
+) -> np.ndarray:
+    """Per segment: it keeps the held floor line's place in the sensor frame (its side,
+    its direction within ``TURN_TOLERANCE``, its tilt within ``HELD_TILT_TOLERANCE``)."""
+    normals = segments.normals
+    turned = folded(line_lean(normals[:, 1], normals[:, 0]) - held.lean_rad)
+    kept = gates & (side == held.side) & (np.abs(turned) <= TURN_TOLERANCE)
+    return kept & (np.abs(tilt - held.tilt_rad) <= HELD_TILT_TOLERANCE)
 
 
 def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:

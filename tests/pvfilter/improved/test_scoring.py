@@ -11,7 +11,10 @@ from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.scoring import (
     COINCIDENT_WEIGHT,
+    CONFIDENT_SCORE,
+    HELD_TILT_TOLERANCE,
     IMU_SUPPORT,
+    HeldLine,
     line_pitch,
     score_segments,
 )
@@ -225,3 +228,25 @@ def test_a_weak_line_alone_shows_no_pitch_event():
     assert alone.down_side == 0 and alone.scores[0] == pytest.approx(PARAMS.up_side_weight)
     _, with_imu = scored(weak, attitude=Attitude(tilt, 0.0, math.radians(2.0)))
     assert with_imu.down_side == 1 and with_imu.scores[0] == pytest.approx(1.0)
+
+
+def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong_line():
+    # a floor line 1.8 m ahead (8 deg at 0.25 m) with no new point: it settled within the
+    # margin of what lies behind it, while the sensor turned in place
+    x = HEIGHT_M / math.sin(math.radians(8.0))
+    points = line(x, -1.0, x, 1.0)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
+    nothing_new = np.zeros(len(points), bool)
+
+    def score(held):
+        return score_segments(segments, nothing_new, 0.0, None, PARAMS, held=held)
+
+    assert score(None).scores.max() == 0.0
+    held = score(HeldLine(1, math.radians(8.0), 0.0))
+    assert held.scores[0] >= CONFIDENT_SCORE and held.new_counts[0] >= PARAMS.down_side_min_new
+    assert held.down_side == 1
+    # another tilt, another direction or the other side: not the held line
+    tilt = math.radians(8.0) + 2.0 * HELD_TILT_TOLERANCE
+    for other in (HeldLine(1, tilt, 0.0), HeldLine(1, math.radians(8.0), 0.2),
+                  HeldLine(-1, math.radians(8.0), 0.0)):  # fmt: skip
+        assert score(other).scores.max() == 0.0
