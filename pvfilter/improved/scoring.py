@@ -40,6 +40,10 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    estimate cannot tell a tilted plane from a level one, and with a wide band its
    support would fall on walls that reappear once the robot levels, whose lines would
    then widen the band further.
+6. **A tilt held through a turn in place** (optional, :class:`HeldLine`): a gated line
+   that keeps the place of the floor line of the last strong scans in the sensor frame,
+   while the sensor turned past what a line fixed in the world could follow, scores at
+   least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new.
 
 The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
 """
