@@ -27,8 +27,9 @@ import math
 
 import numpy as np
 
+from pvfilter.improved.geometry import folded
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.segmentation import Segments, bounds_of
+from pvfilter.improved.segmentation import Segments, bounds_of, line_spreads
 
 CORNER_TURN_DEG = 10.0  # deg: two lines whose directions differ by more than this meet
 # at a corner (the fitted directions of pieces of min_points points err by a few degrees)
@@ -95,8 +96,7 @@ def corner(points: np.ndarray, min_points: int) -> int | None:
     residual_after, direction_after = _line_residual(after)
     total = residual_before + residual_after
     best = int(np.argmin(total))
-    turn = direction_before[best] - direction_after[best]
-    turn = abs((turn + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
+    turn = abs(folded(direction_before[best] - direction_after[best]))
     if turn <= math.radians(CORNER_TURN_DEG) or total[best] > CORNER_FIT_GAIN * whole:
         return None
     return int(cut[best])
@@ -113,8 +113,8 @@ def _line_residual(moments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         sxy / count - mean_x * mean_y,
         syy / count - mean_y * mean_y,
     )
-    half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
-    return np.maximum(half_sum - root, 0.0) * count, 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
+    direction, _, across = line_spreads(cxx, cxy, cyy)
+    return across * count, direction
 
 
 def _cut(segments: Segments, cuts: np.ndarray) -> Segments:

@@ -96,6 +96,17 @@ def bounds_of(cuts: np.ndarray, m: int) -> np.ndarray:
     return bounds
 
 
+def line_spreads(
+    cxx: np.ndarray, cxy: np.ndarray, cyy: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The total-least-squares line of points whose covariance is ``(cxx, cxy, cyy)``, m^2:
+    its direction from the x axis, rad, and the variances of the points along it and
+    across it, m^2 (the covariance's two eigenvalues)."""
+    half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
+    direction = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
+    return direction, half_sum + root, np.maximum(half_sum - root, 0.0)
+
+
 def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
     """Neighbours on each side that make a chord of about ``chord_m`` at each range, beams."""
     beams = np.maximum(ranges, 1e-3)
@@ -191,14 +202,12 @@ class Segments:
         cxx = np.bincount(labels, x * x, k) / self.sizes - mean_x * mean_x
         cyy = np.bincount(labels, y * y, k) / self.sizes - mean_y * mean_y
         cxy = np.bincount(labels, x * y, k) / self.sizes - mean_x * mean_y
-        angle = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)  # of the line's direction
+        angle, along, across = line_spreads(cxx, cxy, cyy)
         normals, centroids = np.empty((k, 2)), np.empty((k, 2))  # (np.stack is slower)
         np.negative(np.sin(angle), out=normals[:, 0])
         np.cos(angle, out=normals[:, 1])
         centroids[:, 0], centroids[:, 1] = mean_x, mean_y
         distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
-        half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
-        along, across = half_sum + root, np.maximum(half_sum - root, 0.0)
         return centroids, normals, distances, along, across
 
     @property
