@@ -132,6 +132,12 @@ class WorldStatic:
     (``floor_shift_m``, from :func:`pvfilter.improved.geometry.floor_shift`): a shallow
     line that stayed put is a wall that came back into view, not the floor.
 
+    Where the sensor turned, the floor line of a tilt held through the turn keeps its
+    place in the sensor frame, and near the foot of its perpendicular the range the turn
+    brings to a beam hardly differs from the beam's own: there a surface fixed in the
+    world and one fixed to the sensor predict the same range, and a return tells only
+    where the two predictions lie more than twice the tolerance apart.
+
     Attributes:
         ranges: this scan's ranges per beam (mid-scan frame, unstretched), m; NaN where
             invalid.
@@ -182,6 +188,8 @@ class WorldStatic:
             # above divides by nearly 0 and means nothing: take 0 there
             moved = np.where(facing_ok, moved, 0.0)
             telling |= pitch_tells
+        if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
+            telling &= np.abs(earlier - self.previous_ranges.take(beams)) > 2.0 * tolerance
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
 

@@ -111,6 +111,28 @@ def test_standing_a_shallow_line_that_stayed_put_is_a_wall_and_one_that_moved_is
     assert np.array_equal(driven.at(beams, np.full(beams.size, shallow))[1], driven.at(beams)[1])
 
 
+def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put():
+    # the sensor stands and turns 10 deg while it holds a 7 deg tilt: the floor line keeps
+    # its place in the sensor frame. Near the foot of its perpendicular the turn changes
+    # its range along a beam by less than the tolerance, as it would a wall's: there
+    # nothing tells, and the walls, which turned, still count as staying put
+    pitch = math.radians(7.0)
+    before, _ = room_scan((0.0, 0.0, 0.0), pitch, noise_m=0.0)
+    after, on_floor = room_scan((0.0, 0.0, math.radians(10.0)), pitch, noise_m=0.0)
+    beams = np.flatnonzero(after.valid_mask())
+    turned = Motion(theta_rad=-math.radians(10.0))
+    layout = BeamLayout.of(after)
+    test = WorldStatic(
+        ranges_of(after), ranges_of(before), directions_of(after), layout, turned, 0.03
+    )
+    static, telling = test.at(
+        beams, np.full(beams.size, floor_shift(pitch, STANDING_PITCH_CHANGE, PARAMS))
+    )
+    floor = on_floor[beams]
+    assert telling[floor].sum() > 50 and not static[floor].any()
+    assert telling[~floor].sum() > 100 and static[~floor & telling].all()
+
+
 def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
     recent = RecentScans(0.25)
     for k in range(6):
