@@ -98,7 +98,7 @@ class FloorFollower:
                 in (the filter's :class:`~pvfilter.improved.evidence.RecentScans` keeps it).
         """
         stamp = detection.scan.stamp
-        self.lines = [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
+        self.lines = self._recent(stamp)
         beams = self._continuing(detection, pose) if self.lines else None
         line = StrongLine.of(detection, pose)
         if line is not None:
@@ -114,7 +114,7 @@ class FloorFollower:
             stamp: the scan's stamp, s.
             pose: the sensor's pose now, from the fixed frame the strong lines' poses are in.
         """
-        recent = [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
+        recent = self._recent(stamp)
         if not recent:
             return None
         earliest = recent[0]  # the longest turn to tell by
@@ -122,6 +122,10 @@ class FloorFollower:
         if abs(turn) <= 2.0 * TURN_TOLERANCE:
             return None
         return HeldLine(earliest.side, earliest.tilt_rad, earliest.lean_rad)
+
+    def _recent(self, stamp: float) -> list[StrongLine]:
+        """The strong lines of the ``FOLLOW_S`` before ``stamp``, oldest first."""
+        return [line for line in self.lines if 0.0 < stamp - line.stamp <= FOLLOW_S]
 
     def _continuing(self, detection: LineDetection, pose: Motion) -> np.ndarray | None:
         params, scores, segments = self.params, detection.segment_scores, detection.segments
