@@ -29,7 +29,7 @@ import numpy as np
 
 from pvfilter.improved.geometry import folded
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.segmentation import Segments, bounds_of, line_spreads
+from pvfilter.improved.segmentation import Segments, line_spreads, segments_at
 
 CORNER_TURN_DEG = 10.0  # deg: two lines whose directions differ by more than this meet
 # at a corner (the fitted directions of pieces of min_points points err by a few degrees)
@@ -119,22 +119,12 @@ def _line_residual(moments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _cut(segments: Segments, cuts: np.ndarray) -> Segments:
     """``segments`` with the points at ``cuts`` starting new segments."""
-    m, old_bounds = len(segments.points), segments.bounds
-    starts = np.union1d(old_bounds[1:-1], cuts)
-    labels = np.zeros(m, dtype=np.intp)
-    labels[starts] = 1
-    np.add.accumulate(labels, out=labels)
-    bounds = bounds_of(starts, m)
-    first = bounds[:-1]
-    cut = Segments(
-        beams=segments.beams,
-        points=segments.points,
-        labels=labels,
-        directions=segments.directions,
-        across=segments.across.take(segments.labels.take(first)),
-        sizes=bounds[1:] - first,
-        seam_joined=segments.seam_joined,
+    return segments_at(
+        segments.beams,
+        segments.points,
+        segments.directions,
+        segments.across.take(segments.labels),
+        segments.ranges,
+        np.union1d(segments.bounds[1:-1], cuts),
+        segments.seam_joined,
     )
-    cut.memo["ranges"] = segments.ranges
-    cut.memo["bounds"] = bounds
-    return cut

@@ -264,16 +264,39 @@ def segment_scan(
     directions = _chord_directions(points, half_widths, jumps.nonzero()[0] + 1)
     across = across_travel(directions, params.line_angle_deg)
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1
-    labels = np.zeros(m, dtype=np.intp)
-    labels[cuts] = 1
-    np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
-    bounds = bounds_of(cuts, m)
-    starts = bounds[:-1]
     seam_joined = False
     if ring and cuts.size > 0 and across[0] == across[-1]:  # the last point, then the first
         (x0, y0), (x1, y1) = points[0].tolist(), points[-1].tolist()  # (floats: no ufuncs)
         seam_m = math.hypot(x0 - x1, y0 - y1)
         seam_joined = seam_m <= params.break_distance_m + 0.02 * math.hypot(x0, y0)
+    return segments_at(beams, points, directions, across, ranges, cuts, seam_joined)
+
+
+def segments_at(
+    beams: np.ndarray,
+    points: np.ndarray,
+    directions: np.ndarray,
+    across: np.ndarray,
+    ranges: np.ndarray,
+    cuts: np.ndarray,
+    seam_joined: bool,
+) -> Segments:
+    """The segments that start at the points ``cuts`` (ascending, none at 0).
+
+    Args:
+        beams, points, directions: as :class:`Segments` holds them, per valid point.
+        across: per valid point, its local direction lies across the direction of travel
+            (a segment takes its first point's).
+        ranges: per valid point, its distance from the sensor, m.
+        cuts: the first points of every segment but the first.
+        seam_joined: see :class:`Segments`.
+    """
+    m = len(points)
+    labels = np.zeros(m, dtype=np.intp)
+    labels[cuts] = 1
+    np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
+    bounds = bounds_of(cuts, m)
+    starts = bounds[:-1]
     segments = Segments(
         beams=beams,
         points=points,
@@ -283,6 +306,6 @@ def segment_scan(
         sizes=bounds[1:] - starts,
         seam_joined=seam_joined,
     )
-    segments.memo["ranges"] = ranges  # worked out here already: Segments.ranges
+    segments.memo["ranges"] = ranges  # worked out already: Segments.ranges
     segments.memo["bounds"] = bounds  # and Segments.bounds
     return segments
