@@ -70,7 +70,9 @@ class StrongLine:
         on_side = scores.gates & (np.sign(segments.centroids[:, 0]) == detection.down_side)
         if not np.count_nonzero(on_side):
             return None
-        strongest = int(np.argmax(np.where(on_side, scores.new_counts, -1.0)))
+        # the most new points; of those, the most points: the best measured direction
+        new_counts = np.where(on_side, scores.new_counts, -1.0)
+        strongest = int(np.lexsort((segments.sizes, new_counts))[-1])
         distance = float(segments.distances[strongest])
         normal_x, normal_y = segments.normals[strongest].tolist()
         direction = float(line_lean(normal_y, normal_x))
@@ -106,9 +108,11 @@ class FloorFollower:
         return beams
 
     def held(self, stamp: float, pose: Motion) -> HeldLine | None:
-        """The floor line of a held tilt: the earliest strong line within ``FOLLOW_S``, if
-        the sensor turned since by more than twice ``TURN_TOLERANCE`` (None: no strong
-        line, or too little turn to tell it from a wall fixed in the world).
+        """The floor line of a held tilt: the strong lines within ``FOLLOW_S``, if the
+        sensor turned since the earliest by more than twice ``TURN_TOLERANCE`` (None: no
+        strong line, or too little turn to tell it from a wall fixed in the world); its
+        side and tilt the earliest's, its direction the median of theirs (a line's fitted
+        direction wanders by a degree or two from scan to scan).
 
         Args:
             stamp: the scan's stamp, s.
@@ -121,7 +125,12 @@ class FloorFollower:
         turn = earliest.pose.inverse().then(pose).theta_rad
         if abs(turn) <= 2.0 * TURN_TOLERANCE:
             return None
-        return HeldLine(earliest.side, earliest.tilt_rad, earliest.lean_rad)
+        # the line's direction from all of them: one strong line may be a floor line run
+        # into a wall at a small angle, one segment, leaning between the two
+        latest = recent[-1]
+        leans = [folded(line.lean_rad - latest.lean_rad) for line in recent]
+        lean = float(folded(latest.lean_rad + np.median(leans)))
+        return HeldLine(earliest.side, earliest.tilt_rad, lean)
 
     def _recent(self, stamp: float) -> list[StrongLine]:
         """The strong lines of the ``FOLLOW_S`` before ``stamp``, oldest first."""

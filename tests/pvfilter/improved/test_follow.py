@@ -6,6 +6,7 @@ import dataclasses
 import math
 
 import numpy as np
+import pytest
 
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
 from pvfilter.improved.follow import FOLLOW_S, TURN_TOLERANCE, FloorFollower, StrongLine
@@ -109,18 +110,55 @@ def test_the_view_does_not_come_closer_behind_a_faint_continuation_of_a_floor_li
     np.testing.assert_allclose(view[kept], scan.ranges[kept], atol=0.02)
 
 
-def test_a_held_line_is_the_earliest_strong_line_once_the_sensor_turned_enough():
+def test_a_held_line_is_the_strong_lines_once_the_sensor_turned_enough_from_the_earliest():
     line = StrongLine(1, math.radians(8.0), 1.8, 0.01, 1.0, Motion())
     follower = _follower_with(line)
     turned = Motion(3.0 * TURN_TOLERANCE, 0.0, 0.0)
-    assert follower.held(1.1, turned) == HeldLine(1, math.radians(8.0), 0.01)
+    assert follower.held(1.1, turned) == HeldLine(1, math.radians(8.0), pytest.approx(0.01))
     # too little turn to tell the line from a wall fixed in the world; too long ago
     assert follower.held(1.1, Motion(1.5 * TURN_TOLERANCE, 0.0, 0.0)) is None
     assert follower.held(1.0 + 1.5 * FOLLOW_S, turned) is None
     # the turn is counted from the earliest line within FOLLOW_S (each scan turns little)
     later = StrongLine(1, math.radians(8.0), 1.8, 0.02, 1.1, Motion(1.5 * TURN_TOLERANCE, 0.0, 0.0))
     held = _follower_with(line, later).held(1.2, turned)
-    assert held is not None and held.lean_rad == 0.01
+    assert held is not None and held.tilt_rad == line.tilt_rad
+
+
+def test_a_held_lines_direction_is_the_median_of_the_strong_lines():
+    # one of three strong lines is a floor line run into a wall at a small angle, one
+    # segment leaning between them: it does not set the held line's direction
+    leans = (math.radians(-2.0), math.radians(1.0), math.radians(-2.2))
+    lines = [
+        StrongLine(1, math.radians(8.0), 1.8, lean, 1.0 + 0.1 * k, Motion())
+        for k, lean in enumerate(leans)
+    ]
+    held = _follower_with(*lines).held(1.25, Motion(3.0 * TURN_TOLERANCE, 0.0, 0.0))
+    assert held is not None
+    assert held.lean_rad == pytest.approx(math.radians(-2.0))
+    # across the fold at +-90 deg the median is taken of the folded differences
+    leans_across = (math.radians(89.0), math.radians(-89.5), math.radians(88.0))
+    across = [
+        dataclasses.replace(line, lean_rad=lean)
+        for line, lean in zip(lines, leans_across, strict=True)
+    ]
+    held = _follower_with(*across).held(1.25, Motion(3.0 * TURN_TOLERANCE, 0.0, 0.0))
+    assert held is not None and held.lean_rad == pytest.approx(math.radians(89.0))
+
+
+def test_a_scans_strong_line_is_its_longest_of_the_most_new_points():
+    # two gated segments on the down side with as many new points: the longer one
+    # measures the line's direction better and is the scan's strong line
+    _, result, _, _, _ = _nose_up_event(PARAMS, faint_second_scan=False)
+    detection = result.lines
+    scores, segments = detection.segment_scores, detection.segments
+    behind = scores.gates & (segments.centroids[:, 0] < 0.0)
+    assert np.count_nonzero(behind) >= 1
+    capped = np.where(behind, 1.0, scores.new_counts)  # every one on the side ties
+    tied_scores = dataclasses.replace(scores, new_counts=capped)
+    tied = dataclasses.replace(detection, segment_scores=tied_scores)
+    line = StrongLine.of(tied, Motion())
+    longest = int(np.argmax(np.where(behind, segments.sizes, -1)))
+    assert line is not None and line.distance_m == float(segments.distances[longest])
 
 
 def _round_alcove(radius_m: float, open_radius_m: float) -> np.ndarray:
