@@ -17,8 +17,9 @@ turn by more than ``CORNER_TURN_DEG`` (range noise alone moves neither that far)
 each piece keeps at least ``min_points``. A piece is cut again once at most (a floor line
 between two oblique walls).
 
-Only scans with something to score are cut (:func:`pvfilter.improved.detection.detect_lines`):
-most scans show no new point and keep their segments as they are.
+Only segments that may score are cut (:func:`pvfilter.improved.detection.detect_lines`):
+those with new points, or every one when the IMU shows the plane tilted or a held floor
+line is followed. Most scans show no new point and keep their segments as they are.
 """
 
 from __future__ import annotations
@@ -41,7 +42,9 @@ STRAIGHT_SPREAD_M = 0.01  # m: a segment whose points lie within this (one stand
 CUT_ROUNDS = 2  # a segment is cut at most this many times in turn (three pieces)
 
 
-def split_at_corners(segments: Segments, params: ImprovedParams) -> Segments:
+def split_at_corners(
+    segments: Segments, params: ImprovedParams, tried: np.ndarray | None = None
+) -> Segments:
     """``segments`` with every long, bent segment across the direction of travel cut at
     its corner (the same segments, as they are, when none is).
 
@@ -52,6 +55,7 @@ def split_at_corners(segments: Segments, params: ImprovedParams) -> Segments:
     Args:
         segments: the scan's segments.
         params: ``min_points``: each piece keeps at least this many points.
+        tried: per segment, it may be cut (None: every one may).
     """
     min_points = params.min_points
     long_bent = (
@@ -59,6 +63,8 @@ def split_at_corners(segments: Segments, params: ImprovedParams) -> Segments:
         & (segments.sizes >= 2 * min_points)
         & (segments.spread_across > STRAIGHT_SPREAD_M * STRAIGHT_SPREAD_M)
     )
+    if tried is not None:
+        long_bent &= tried
     if not np.count_nonzero(long_bent):
         return segments
     bounds = segments.bounds
