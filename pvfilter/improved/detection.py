@@ -74,8 +74,12 @@ def detect_lines(
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
     tilted = attitude is not None and attitude.tilted
-    if np.count_nonzero(new_valid) or tilted or held is not None:
-        segments = split_at_corners(segments, params)  # (the points stay in their order)
+    # (the points stay in their order)
+    if tilted or held is not None:  # any gated segment may score
+        segments = split_at_corners(segments, params)
+    elif np.count_nonzero(new_valid):  # only a segment with new points can score
+        with_new = np.bincount(segments.labels, new_valid, len(segments)) > 0
+        segments = split_at_corners(segments, params, with_new)
     scores = score_segments(
         segments, new_valid, scan.time_increment, attitude, params, static, through_valid, held
     )

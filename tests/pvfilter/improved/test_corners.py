@@ -7,6 +7,7 @@ import numpy as np
 
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter
 from pvfilter.improved.corners import CORNER_TURN_DEG, corner, split_at_corners
+from pvfilter.improved.segmentation import segment_scan
 
 from .conftest import HEIGHT_M, ROOM, tilted_scan
 from .test_segmentation import segments_of
@@ -58,6 +59,25 @@ def test_a_floor_line_running_into_an_oblique_wall_becomes_a_segment_of_its_own(
     cut_floor, cut_wall = floor_segment(cut)
     assert cut_wall <= 2 and cut_floor >= 0.9 * joined_floor
     np.testing.assert_array_equal(cut.points, segments.points)  # the points stay in order
+
+
+def test_every_bent_segment_is_cut_at_once_and_only_those_tried():
+    # two bent lines, far apart, in one scan: each is cut at its own corner
+    pieces = (_bent_line(30.0), _bent_line(-25.0, seed=2) + np.array([0.0, 3.0]))
+    points = np.concatenate(pieces)
+    corners = [corner(piece, PARAMS.min_points) for piece in pieces]
+    segments = segments_of_points(points)
+    assert len(segments) == 2
+    cut = split_at_corners(segments, PARAMS)
+    np.testing.assert_array_equal(cut.bounds, [0, corners[0], 80, 80 + corners[1], 160])
+    # a segment that may not score (no new point, no IMU) is left whole
+    only_second = split_at_corners(segments, PARAMS, np.array([False, True]))
+    np.testing.assert_array_equal(only_second.bounds, [0, 80, 80 + corners[1], 160])
+
+
+def segments_of_points(points: np.ndarray):
+    """The segments of points given in scan order, one beam each (0.25 deg apart)."""
+    return segment_scan(points, np.arange(len(points)), math.radians(0.25), PARAMS)
 
 
 def test_a_scan_of_straight_walls_keeps_its_segments():
