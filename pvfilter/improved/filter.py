@@ -223,6 +223,14 @@ class ImprovedPitchVariationFilter:
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
+        # returns nearer than any floor line can lie are the robot's own body (a mast, a
+        # wheel, the frame in the blocked sector) or something touching it: they move with
+        # the sensor, and would pin the scan match to a robot standing still (in a
+        # corridor its walls say nothing of the drive along them). The match, its
+        # reference and the world-static test leave them out.
+        body = ranges < self.params.min_line_distance_m  # NaN compares False
+        if np.count_nonzero(body):
+            mid_points[body] = np.nan
         prepared = _Prepared(
             scan, ranges, points, segments, directions, mid_points, velocity, dt, pose, attitude
         )

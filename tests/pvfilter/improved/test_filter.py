@@ -18,7 +18,7 @@ from pvfilter import (
 )
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
-from pvfilter.synthetic import ray_cast, room_segments, room_sequence
+from pvfilter.synthetic import ray_cast, room_segments, room_sequence, segment_scan
 
 from .conftest import HEIGHT_M, ROOM, pitch_event, room_scan, tilted_scan, to_sensor
 
@@ -384,3 +384,42 @@ def test_a_level_scan_whose_match_fails_coasts_only_if_a_pitch_event_begins(pitc
         assert not (result.removed & ~on_floor).any()
     else:
         assert result.lines.new_sequence and not result.removed.any()
+
+
+def _corridor_scan(x_m: float, stamp: float, body_m: float | None) -> Scan:
+    """A scan from ``x_m`` along a corridor 1.4 m wide, with a door jamb on each side 3 m
+    ahead of the start (the only structure across the corridor in view), the 120° behind
+    blocked; with ``body_m``, the blocked beams return the robot's own frame there."""
+    walls = np.array(
+        [
+            [[-30.0, 0.7], [30.0, 0.7]],
+            [[-30.0, -0.7], [30.0, -0.7]],
+            [[3.0, 0.7], [3.0, 0.55]],  # door jambs
+            [[3.0, -0.7], [3.0, -0.55]],
+        ]
+    )
+    rng = np.random.default_rng(round(stamp * 10))
+    scan = segment_scan(
+        to_sensor(walls, (x_m, 0.0, 0.0)), stamp=stamp, noise_m=0.005, rng=rng, beams=1440
+    )
+    behind = np.abs(scan.angles()) > math.radians(120.0)
+    frame = np.nan if body_m is None else body_m + rng.normal(0.0, 0.005, len(scan))
+    return dataclasses.replace(scan, ranges=np.where(behind, frame, scan.ranges))
+
+
+@pytest.mark.parametrize("body_m", [None, 0.12])
+def test_the_robots_own_frame_in_view_does_not_pin_the_scan_match_to_standing(body_m):
+    # driving 0.5 m/s along a corridor: only the door jambs show the drive along it. The
+    # robot's frame behind (240 beams at 0.12 m) moves with the sensor and faces along
+    # the corridor:
+    # matched, it outweighs the jambs and the match reads a robot standing still
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    steps = []
+    for k in range(12):
+        result = pvf.process(_corridor_scan(0.05 * k, 0.1 * k, body_m))
+        if k >= 2:
+            steps.append(result.lines.motion.tx_m)
+    assert body_m is None or body_m < params.min_line_distance_m
+    # 0.5 m driven over the ten matched scans: the jambs' few points tell it within 20 %
+    assert sum(steps) == pytest.approx(-0.5, abs=0.1)
