@@ -410,9 +410,9 @@ def _corridor_scan(x_m: float, stamp: float, body_m: float | None) -> Scan:
 @pytest.mark.parametrize("body_m", [None, 0.12])
 def test_the_robots_own_frame_in_view_does_not_pin_the_scan_match_to_standing(body_m):
     # driving 0.5 m/s along a corridor: only the door jambs show the drive along it. The
-    # robot's frame behind (240 beams at 0.12 m) moves with the sensor and faces along
-    # the corridor:
-    # matched, it outweighs the jambs and the match reads a robot standing still
+    # robot's frame behind (480 beams at 0.12 m) moves with the sensor and faces along
+    # the corridor: matched, it outweighs the jambs and the match reads a robot standing
+    # still (0.006 m driven over the ten scans)
     params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
     pvf = ImprovedPitchVariationFilter(params)
     steps = []
