@@ -106,8 +106,8 @@ def _cumulative_moments(points: np.ndarray) -> np.ndarray:
     x, y = points[:, 0], points[:, 1]
     moments = np.empty((len(points) + 1, 6))
     moments[0] = 0.0
-    np.cumsum(np.column_stack((np.ones(len(points)), x, y, x * x, x * y, y * y)), axis=0,
-              out=moments[1:])  # fmt: skip
+    each = np.column_stack((np.ones(len(points)), x, y, x * x, x * y, y * y))
+    np.cumsum(each, axis=0, out=moments[1:])
     return moments
 
 
