@@ -1,0 +1,100 @@
+"""Throughput of the paper's and the improved filter on the simulator's scans, single thread.
+
+Input: the evaluation's two sequences (``normal_sequence``, ``disturb_sequence``, seed 0)
+in ``house1`` and in random houses 11 and 12, simulated once before timing (about 2,200
+frames of 720 beams at 10 Hz: drives, turns, hard stops and shoves). The benchmark room of
+``bench_pvfilter.py`` is simpler: a house gives more segments, and more bent ones.
+
+Prints scans/s of the paper's filter (Table I) and of the improved filter (defaults, the
+robot's LiDAR and axle heights, scans alone; and once more without re-anchoring the level
+view, to show what that stage costs), run in turn, ``--repeats`` rounds; the median and
+best of each, and the improved filter's time per scan over the paper's, per round (the
+goal: at most 2x). The filters run as ``twsb eval`` runs them.
+
+    python benchmarks/bench_filters_sim.py [--repeats 5] [--houses 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import time
+
+import numpy as np
+import scipy
+
+from pvfilter import ImprovedParams
+from twsb_sim.evaluation.improved import improved_filter
+from twsb_sim.evaluation.recording import record, sequence_in_house
+from twsb_sim.frame_filter import frame_filter
+
+SEQUENCES = ("normal_sequence", "disturb_sequence")
+HOUSES = (("house1", None), (None, 11), (None, 12))  # (named layout, random house seed)
+NO_REANCHOR = ImprovedParams(reanchor_view=False)  # what the level view's re-anchoring costs
+
+
+def recordings(houses: int) -> list:
+    """The sequences in the first ``houses`` houses, each simulated once (seed 0)."""
+    runs = []
+    for sequence in SEQUENCES:
+        for name, seed in HOUSES[:houses]:
+            scenario, house = sequence_in_house(sequence, name, seed, None)
+            runs.append(record(scenario, house, 0))
+    return runs
+
+
+def seconds_per_scan(make, runs: list) -> float:
+    """Mean seconds per frame of a fresh filter from ``make(recording)`` over ``runs``."""
+    frames, elapsed = 0, 0.0
+    for run in runs:
+        scan_filter = make(run)
+        scan_filter.reset()
+        start = time.perf_counter()
+        for frame in run.frames:
+            scan_filter.process(frame)
+        elapsed += time.perf_counter() - start
+        frames += len(run.frames)
+    return elapsed / frames
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repeats", type=int, default=5, help="rounds of both filters")
+    parser.add_argument("--houses", type=int, default=3, choices=(1, 2, 3), help="houses")
+    args = parser.parse_args()
+    runs = recordings(args.houses)
+    frames = sum(len(run.frames) for run in runs)
+    print(
+        f"filters on the simulator's scans: {frames} frames of {len(runs)} runs, "
+        f"{args.repeats} rounds, each filter in turn"
+    )
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
+        f"{platform.machine()}, {os.cpu_count()} cpus\n"
+    )
+    filters = {
+        "paper (Table I)": lambda run: frame_filter("paper", "paper", None, run.geometry, ()),
+        "improved (defaults)": lambda run: improved_filter(run, inputs=()),
+        "improved, no re-anchor": lambda run: improved_filter(run, NO_REANCHOR, inputs=()),
+    }
+    times: dict[str, list[float]] = {name: [] for name in filters}
+    for _ in range(args.repeats):
+        for name, make in filters.items():
+            times[name].append(seconds_per_scan(make, runs))
+    print(f"{'filter':24s} {'scans/s':>16s} {'us/scan':>8s}")
+    for name, seconds in times.items():
+        median = statistics.median(seconds)
+        print(f"{name:24s} {1.0 / median:8.0f} ({1.0 / min(seconds):5.0f}) {1e6 * median:8.1f}")
+    ratios = [
+        i / p for i, p in zip(times["improved (defaults)"], times["paper (Table I)"], strict=True)
+    ]
+    print(
+        f"\nimproved / paper time per scan, per round: median {statistics.median(ratios):.2f}x "
+        f"({min(ratios):.2f}-{max(ratios):.2f}x)"
+    )
+
+
+if __name__ == "__main__":
+    main()
