@@ -33,6 +33,17 @@ PITCH_VARIATION_LABELS: tuple[BeamLabel, ...] = (
 LABEL_NAMES: dict[int, str] = {int(label): label.name for label in BeamLabel}
 
 
+def with_label(labels: np.ndarray, label: BeamLabel) -> np.ndarray:
+    """Boolean mask of the beams labelled ``label``, any shape.
+
+    Compares with the label's plain code. Given the enum member itself, numpy looks up
+    ``__array_ufunc__`` on its class, which runs the enum's Python ``__getattr__``, and
+    drops whatever that raises: a Ctrl-C landing there was lost, and the command ran on
+    to the end and exited 0. (The same holds for ``np.full`` with a member as its value.)
+    """
+    return labels == int(label)
+
+
 def is_pitch_variation(labels: np.ndarray) -> np.ndarray:
     """Boolean mask of the beams whose label marks a pitch-variation point.
 

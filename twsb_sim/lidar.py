@@ -40,7 +40,7 @@ import mujoco
 import numpy as np
 
 from twsb_sim.house.surfaces import ROBOT_GEOM_GROUP, SurfaceClass, surface_classes
-from twsb_sim.labels import BeamLabel
+from twsb_sim.labels import BeamLabel, with_label
 from twsb_sim.lidar_reading import PARAMS, from_beam_origins, read_beams
 from twsb_sim.raycast import RayCaster
 from twsb_sim.sensors.checks import non_negative, number, within
@@ -174,7 +174,7 @@ class LidarReading:
     def origins_world(self) -> np.ndarray:
         """float64[n, 3], where each beam started (m); NaN for blocked beams."""
         origins = np.full(self.hit_points_world.shape, np.nan)
-        origins[self.labels != BeamLabel.OCCLUDED] = self.useful_origins_world
+        origins[~with_label(self.labels, BeamLabel.OCCLUDED)] = self.useful_origins_world
         return origins
 
 
@@ -252,7 +252,7 @@ class Lidar:
         self.surface_class = surface_classes(model)  # uint8 per geom id
         # label of a hit per geom (before the normal test); the extra last entry serves
         # geom id -1, so one gather labels misses too
-        by_class = np.full(max(SurfaceClass) + 1, BeamLabel.STATIC, dtype=np.uint8)
+        by_class = np.full(max(SurfaceClass) + 1, int(BeamLabel.STATIC), dtype=np.uint8)
         by_class[SurfaceClass.FLOOR] = BeamLabel.FLOOR
         by_class[SurfaceClass.CEILING] = BeamLabel.CEILING
         by_class[SurfaceClass.DYNAMIC] = BeamLabel.DYNAMIC

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from twsb_sim.frame import Frame
-from twsb_sim.labels import BeamLabel, is_pitch_variation
+from twsb_sim.labels import BeamLabel, is_pitch_variation, with_label
 
 
 @dataclass
@@ -40,7 +40,7 @@ class FilterCounts:
 
     def add(self, ranges: np.ndarray, labels: np.ndarray, removed: np.ndarray) -> None:
         finite = np.isfinite(ranges)
-        dynamic = finite & (labels == BeamLabel.DYNAMIC)
+        dynamic = finite & with_label(labels, BeamLabel.DYNAMIC)
         removed = np.asarray(removed, dtype=bool)
         self.dynamic_removed += int(np.count_nonzero(removed & dynamic))
         self.dynamic_beams += int(np.count_nonzero(dynamic))

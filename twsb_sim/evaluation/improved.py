@@ -33,7 +33,7 @@ from twsb_sim.evaluation.families import family_filter
 from twsb_sim.evaluation.passes import beam_truth, sweep_counts
 from twsb_sim.evaluation.recording import Recording
 from twsb_sim.frame_filter import FrameFilter, frame_filter
-from twsb_sim.labels import BeamLabel
+from twsb_sim.labels import BeamLabel, with_label
 
 # ablation: name -> (what is switched off, how)
 ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
@@ -167,7 +167,7 @@ def one_pass(
         tp = np.count_nonzero(removed & positive, axis=1)
         fn = np.count_nonzero(positive & finite) - tp
         counts += np.stack((tp, removed.sum(axis=1) - tp, fn), axis=1)
-        static = (frame.labels == BeamLabel.STATIC) & finite
+        static = with_label(frame.labels, BeamLabel.STATIC) & finite
         static_removed += int(np.count_nonzero(scores[static] > op))
         static_total += int(np.count_nonzero(static))
     return counts, static_removed, static_total, seconds
@@ -179,7 +179,7 @@ def static_at(recording: Recording, frame_filter: FrameFilter) -> tuple[int, int
     removed = total = 0
     for frame in recording.frames:
         mask = frame_filter.process(frame).removed
-        static = (frame.labels == BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
+        static = with_label(frame.labels, BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
         removed += int(np.count_nonzero(mask & static))
         total += int(np.count_nonzero(static))
     return removed, total

@@ -20,7 +20,7 @@ from pvfilter import FilterResult
 from twsb_sim.evaluation.recording import Recording
 from twsb_sim.frame import Frame
 from twsb_sim.frame_filter import FrameFilter
-from twsb_sim.labels import BeamLabel, is_pitch_variation
+from twsb_sim.labels import BeamLabel, is_pitch_variation, with_label
 
 
 def beam_truth(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
@@ -30,13 +30,13 @@ def beam_truth(frame: Frame) -> tuple[np.ndarray, np.ndarray]:
     DYNAMIC beams a filter removes are neither hits nor false alarms for pitch variation
     (:func:`dynamic_removed` counts them apart).
     """
-    scored = np.isfinite(frame.scan.ranges) & (frame.labels != BeamLabel.DYNAMIC)
+    scored = np.isfinite(frame.scan.ranges) & ~with_label(frame.labels, BeamLabel.DYNAMIC)
     return is_pitch_variation(frame.labels), scored
 
 
 def dynamic_removed(frame: Frame, removed: np.ndarray) -> tuple[int, int]:
     """(DYNAMIC beams removed, DYNAMIC beams with a finite range) of one mask on one frame."""
-    dynamic = (frame.labels == BeamLabel.DYNAMIC) & np.isfinite(frame.scan.ranges)
+    dynamic = with_label(frame.labels, BeamLabel.DYNAMIC) & np.isfinite(frame.scan.ranges)
     return int(np.count_nonzero(removed & dynamic)), int(np.count_nonzero(dynamic))
 
 

@@ -43,7 +43,7 @@ from twsb_sim.evaluation.recording import Recording, record
 from twsb_sim.evaluation.scan_matching import pitch_variation_runs, true_relative_pose
 from twsb_sim.evaluation.stress_conditions import condition_names, condition_ranges
 from twsb_sim.frame_filter import frame_filter
-from twsb_sim.labels import BeamLabel
+from twsb_sim.labels import BeamLabel, with_label
 from twsb_sim.scenario import scenario_from_table
 
 METHODS: dict[str, str] = {
@@ -219,7 +219,7 @@ def run_condition(name: str, config: StressConfig, progress: bool = False) -> di
             cell = cells.setdefault(method, Cell(values, op, np.zeros_like(counts)))
             cell.counts += counts
             for frame, mask in zip(recording.frames, masks, strict=True):
-                static = (frame.labels == BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
+                static = with_label(frame.labels, BeamLabel.STATIC) & np.isfinite(frame.scan.ranges)
                 cell.static += (np.count_nonzero(mask & static), np.count_nonzero(static))
                 cell.dynamic += dynamic_removed(frame, mask)
             for translation, rotation in _matching_errors(recording, masks, config):

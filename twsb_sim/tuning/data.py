@@ -19,7 +19,7 @@ from twsb_sim.dataset.episode import draw_episode
 from twsb_sim.dataset.randomization import Randomization
 from twsb_sim.filter_args import robot_geometry
 from twsb_sim.frame import Frame
-from twsb_sim.labels import BeamLabel, is_pitch_variation
+from twsb_sim.labels import BeamLabel, is_pitch_variation, with_label
 from twsb_sim.runner import run_scenario
 from twsb_sim.scenario import scenario_from_table
 from twsb_sim.sinks import NullSink
@@ -69,7 +69,7 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
     frames = collect.frames
     # scored beams: a finite range, not on a moving object (neither hit nor false alarm)
     finite = np.array(
-        [np.isfinite(f.scan.ranges) & (f.labels != BeamLabel.DYNAMIC) for f in frames]
+        [np.isfinite(f.scan.ranges) & ~with_label(f.labels, BeamLabel.DYNAMIC) for f in frames]
     )
     return TuningRun(
         name=f"{seed}/{episode}",
@@ -77,7 +77,7 @@ def simulate_episode(seed: int, episode: int, ranges: Randomization) -> TuningRu
         scans=tuple(f.scan for f in frames),
         positive=np.array([is_pitch_variation(f.labels) for f in frames]) & finite,
         finite=finite,
-        static=np.array([f.labels == BeamLabel.STATIC for f in frames]) & finite,
+        static=np.array([with_label(f.labels, BeamLabel.STATIC) for f in frames]) & finite,
         attitude=np.array([f.attitude_estimate for f in frames]),
         geometry=robot_geometry(scenario),
     )
