@@ -1,10 +1,10 @@
 """Line detection, the recipe: score the segments, let the lines claim points, build the
 clusters.
 
-0. **Corners** (:mod:`pvfilter.improved.corners`): in a scan with new points (or an IMU
-   that shows the plane tilted, or a floor line held through a turn), a segment that is
-   two lines meeting at an angle, a floor line running into an oblique wall, is cut in
-   two.
+0. **Corners** (:mod:`pvfilter.improved.corners`): a segment that may score (one with
+   new points; any, when the IMU shows the plane tilted or a floor line is held through a
+   turn) that is two lines meeting at an angle, a floor line running into an oblique
+   wall, is cut in two; the points stay in their order.
 1. **Scoring** (:mod:`pvfilter.improved.scoring`): per segment, the share of its points in
    previously free space, the tilted-plane geometry gates, the two sides of a tilted
    plane, the IMU's agreement, and the place of a floor line held through a turn in
@@ -74,7 +74,6 @@ def detect_lines(
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
     tilted = attitude is not None and attitude.tilted
-    # (the points stay in their order)
     if tilted or held is not None:  # any gated segment may score
         segments = split_at_corners(segments, params)
     elif np.count_nonzero(new_valid):  # only a segment with new points can score

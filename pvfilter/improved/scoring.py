@@ -86,8 +86,9 @@ HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a l
 @dataclasses.dataclass(frozen=True)
 class HeldLine:
     """The floor line of a tilt held while the sensor turns in place (from
-    :meth:`pvfilter.improved.follow.FloorFollower.held`): a strong line of the last scans,
-    and the sensor has turned since by more than twice ``TURN_TOLERANCE``.
+    :meth:`pvfilter.improved.follow.FloorFollower.held`): the strong lines of the last
+    scans (the earliest's side and tilt, the median of their directions), the sensor
+    turned since the earliest by more than twice ``TURN_TOLERANCE``.
 
     A line fixed in the world turns the other way in the sensor frame; the floor line of a
     held tilt keeps its place there, at one distance and in one direction, while the
