@@ -6,8 +6,8 @@ over scan files of robots that never pitch into the floor, and reports per log t
 of valid beams removed and the worst scan (:mod:`pvfilter.logs`). A folder stands for
 the ``.npz`` files in it; files without scans are skipped with a note. ``--odometry``
 gives the filters the logs' wheel odometry. ``--out DIR`` writes ``report.json`` and
-``report.md``. Exit status: 0 done, 2 a user mistake (one line naming it), 130
-interrupted.
+``report.md``, which say the parameter options each filter ran with. Exit status: 0
+done, 2 a user mistake (one line naming it), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -92,9 +92,19 @@ def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:
     return entry.name, lambda: entry.make(params, **fields)
 
 
+def settings_of(args: argparse.Namespace) -> str:
+    """The options that set the chosen filter's parameters, as given (``defaults``: none):
+    a report that does not say them cannot be told from one of the defaults."""
+    options = ([f"--params {args.params}"] if args.params else []) + [
+        f"--set {text}" for text in args.set or ()
+    ]
+    return " ".join(options) or "defaults"
+
+
 def _evaluate(args: argparse.Namespace) -> int:
     name, make = chosen(args)
     makers = {name: make}
+    settings = {name: settings_of(args)}  # a compared filter runs with its defaults
     for name in args.compare:
         if name not in makers:
             compared = filter_entry(name)
@@ -121,11 +131,19 @@ def _evaluate(args: argparse.Namespace) -> int:
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        rows = [dict(dataclasses.asdict(r), removed_share=r.removed_share) for r in reports]
+        rows = [
+            dict(
+                dataclasses.asdict(r),
+                removed_share=r.removed_share,
+                settings=settings.get(r.filter, "defaults"),
+            )
+            for r in reports
+        ]
         (out / "report.json").write_text(json.dumps(rows, indent=1) + "\n")
+        ran = "; ".join(f"{name}: {settings.get(name, 'defaults')}" for name in makers)
         (out / "report.md").write_text(
             "# False alarms on real logs\n\nEvery removed beam is a false alarm: none of these "
-            "logs pitches into the floor.\n\n" + markdown(reports)
+            f"logs pitches into the floor.\n\nParameters: {ran}.\n\n" + markdown(reports)
         )
         print(f"pvfilter eval-logs: wrote {out / 'report.json'} and {out / 'report.md'}")
     return 0

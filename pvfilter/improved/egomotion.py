@@ -14,6 +14,9 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   a pitch event puts every wall farther off than ``association_m``, and a coasting filter
   would carry it for ``max_event_s``), the match is tried once more from the robot
   standing since the reference, as it mostly does at the end of a hard stop;
+- at a **low scan rate** (no odometry, and a gap long enough for the constant-velocity
+  prior to be off by more than ``association_m``) the drive between the scans is
+  searched before the fit (:mod:`pvfilter.improved.widestep`);
 - a match that is not to be **trusted** (too few pairs, a poor fit, a turn or a drive
   faster than a robot of this class can, or far from the odometry): in the middle of a
   pitch event the prior carries the motion (**coasting**) until a scan matches again,
@@ -43,6 +46,7 @@ from pvfilter.improved.motion import (
 )
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.sweep import unstretch
+from pvfilter.improved.widestep import MAX_SEARCH_M, prior_doubt_m, wide_step
 
 ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, besides slip
 ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip
@@ -94,6 +98,7 @@ class EgoMotion:
         """Forget the scans so far (a new sequence, or a re-baseline)."""
         self.reference: np.ndarray | None = None  # the last matched scan, unstretched
         self.reference_ranges: np.ndarray | None = None  # its ranges
+        self.reference_all: np.ndarray | None = None  # its points with the new returns too
         self.since_reference = Motion()  # its motion to the previous scan (coasting)
         self.coasted_s = 0.0  # time from the reference to the previous scan, s (coasting)
         self.velocity = Motion()  # the last step, per second
@@ -164,10 +169,27 @@ class EgoMotion:
             # hard stop while coasting): try the robot standing since the reference
             standing = Motion(expected.theta_rad, 0.0, 0.0)
             found = fit(standing, (spread[0], self.params.association_m))
+        since_s = dt + self.coasted_s
+        if not odometry and prior_doubt_m(dt) > self.params.association_m:
+            # a low scan rate: the drive may lie beyond the pairs' reach; search it
+            wide = wide_step(
+                level,
+                ranges,
+                directions,
+                self.reference_all,
+                layout,
+                turn,
+                expected,
+                min(MAX_SPEED_MPS * since_s, MAX_SEARCH_M),
+                self.params.association_m,
+                spread[0],
+                found,
+            )
+            if wide is not None and wide.residual_m <= MAX_RESIDUAL_M:
+                found = wide
         step = self.since_reference.inverse().then(found)
         trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
         # no faster than a robot of this class turns and drives since the reference
-        since_s = dt + self.coasted_s
         trusted &= abs(found.theta_rad) <= self.params.max_yaw_rate_rad_s * since_s + math.radians(
             2.0
         )
@@ -237,6 +259,7 @@ class EgoMotion:
         """
         reference = unstretch(points, tilt_rad)
         reference = reference.copy() if reference is points else reference
+        every = reference.copy()  # new returns too: for a search across a wide step
         moving = indices(moving)
         reference[moving] = np.nan
         if match.trusted and dt > 0.0:
@@ -252,6 +275,7 @@ class EgoMotion:
         else:
             ranges = np.hypot(reference[:, 0], reference[:, 1])
         self.reference, self.reference_ranges = reference, ranges
+        self.reference_all = every
         self.since_reference = STILL
         self.coasted_s = 0.0
         self.tilt = tilt_rad

@@ -81,6 +81,20 @@ def test_the_command_reports_every_log_and_skips_files_without_scans(log_file, t
     assert "| level | improved |" in (out / "report.md").read_text()
 
 
+def test_the_reports_say_what_parameters_each_filter_ran_with(log_file, tmp_path):
+    out = tmp_path / "report"
+    assert main(["eval-logs", str(log_file), "--out", str(out), "--set", "max_gap_s=1.0"]) == 0
+    rows = json.loads((out / "report.json").read_text())
+    assert {r["filter"]: r["settings"] for r in rows} == {
+        "improved": "--set max_gap_s=1.0",
+        "paper": "defaults",
+    }
+    assert (
+        "Parameters: improved: --set max_gap_s=1.0; paper: defaults."
+        in (out / "report.md").read_text()
+    )
+
+
 def test_the_command_names_a_missing_path(tmp_path, capsys):
     assert main(["eval-logs", str(tmp_path / "nowhere")]) == 2
     assert "nowhere: no such file or folder" in capsys.readouterr().err

@@ -126,3 +126,19 @@ def tilted_scan(
     scan = Scan(ranges=ranges, angle_min=-math.pi, angle_increment=increment, range_min=0.05,
                 range_max=12.0, stamp=stamp, scan_time=0.1)  # fmt: skip
     return scan, labels
+
+
+def prepared(scan: Scan):
+    """The beams of ``scan``, its points per beam (NaN rows: invalid) and each point's local
+    line direction (NaN: none), as the improved filter's scan match takes them."""
+    from pvfilter.improved import BeamLayout, ImprovedParams, segment_scan
+
+    layout = BeamLayout.of(scan)
+    valid = scan.valid_mask()
+    points = layout.points(np.where(valid, scan.ranges, np.nan))
+    beams = np.flatnonzero(valid)
+    directions = np.full(len(scan), np.nan)
+    directions[beams] = segment_scan(
+        points[beams], beams, layout.increment, ImprovedParams()
+    ).directions
+    return layout, points, directions

@@ -5,24 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from pvfilter.improved import BeamLayout, ImprovedParams, Motion, segment_scan
+from pvfilter.improved import ImprovedParams, Motion
 from pvfilter.improved.egomotion import EgoMotion
 from pvfilter.synthetic import room_segments
 
-from .conftest import tilted_scan
+from .conftest import prepared, tilted_scan
 
 PARAMS = ImprovedParams()
 DT = 0.1  # s
-
-
-def prepared(scan):
-    layout = BeamLayout.of(scan)
-    valid = scan.valid_mask()
-    points = layout.points(np.where(valid, scan.ranges, np.nan))
-    beams = np.flatnonzero(valid)
-    directions = np.full(len(scan), np.nan)
-    directions[beams] = segment_scan(points[beams], beams, layout.increment, PARAMS).directions
-    return layout, points, directions
 
 
 def matched(reference, scan, pose_before=None, pose_after=None, tilt=None):

@@ -174,6 +174,32 @@ def test_a_time_gap_starts_afresh_and_removes_nothing():
         ).removed.any()
 
 
+def test_at_two_scans_a_second_the_drive_is_searched_and_a_floor_line_removed():
+    # 2 Hz: the robot speeds up from standing to 1 m/s and brakes, 0.5 s between scans;
+    # the constant-velocity prior is then up to 0.4 m off, beyond association_m, and the
+    # drive between the scans is searched. One scan of the hard stop is pitched 8 deg
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    assert params.max_gap_s >= 0.5
+    pvf = ImprovedPitchVariationFilter(params)
+    speeds = (0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.2, 0.0, 0.0)  # m/s, scan to scan
+    x = -2.5 + 0.5 * np.cumsum(np.r_[0.0, speeds[1:]])
+    pitch = {7: math.radians(8.0)}
+    for k, position in enumerate(x):
+        scan, on_floor = room_scan(
+            (position, 0.1, 0.02 * k), pitch.get(k, 0.0), 0.5 * k, seed=k, extra=CLUTTER
+        )
+        result = pvf.process(scan)
+        assert not result.lines.new_sequence or k == 0, k  # compared with the scan before
+        if 0 < k < 7:  # the drive is read (without the search: 0.05-0.08 m of each 0.5 m)
+            assert result.lines.motion.tx_m == pytest.approx(x[k - 1] - position, abs=0.05)
+        if k in pitch:
+            assert on_floor.sum() > 50
+            assert (result.removed & on_floor).sum() >= 0.9 * on_floor.sum()
+            assert (result.removed & ~on_floor).sum() <= 0.05 * result.removed.sum()
+        else:
+            assert not result.removed.any(), k
+
+
 def test_the_odometry_carries_the_motion_where_the_walls_do_not_show_it():
     # a corridor with its ends out of range: the robot speeds up through a pitch event;
     # from the scans alone the drive along the corridor is unseen, the odometry gives it
