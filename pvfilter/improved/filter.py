@@ -29,6 +29,7 @@ from pvfilter.improved.anchor import (
     explains_view_error,
     offset_along_x,
     register_view,
+    within_margin,
 )
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
@@ -433,9 +434,10 @@ class ImprovedPitchVariationFilter:
     ) -> tuple[LevelView, np.ndarray] | None:
         """The level view registered against the scan, and its gaps, where the correction
         explains returns seen through the view (:mod:`pvfilter.improved.anchor`); None:
-        the view stands. The memory takes the corrected view in with the scan. Where that
-        fails and ``unseen_travel`` may have left the view off along x, the registration
-        starts again from a search along x."""
+        the view stands (as it does at once where the registration finds it within the
+        free-space margin). The memory takes the corrected view in with the scan. Where
+        that fails and ``unseen_travel`` may have left the view off along x, the
+        registration starts again from a search along x."""
         layout, params = self._layout, self.params
         margin = params.free_margin_m + params.free_margin_rel * ranges
 
@@ -456,9 +458,10 @@ class ImprovedPitchVariationFilter:
                 return None
             return moved, moved_gaps
 
-        anchored = moved_if_explained(
-            register_view(level_ranges, directions, view.ranges, layout), False
-        )
+        correction = register_view(level_ranges, directions, view.ranges, layout)
+        if correction is not None and within_margin(correction, params):
+            return None  # the view is where the scan says, within the free-space margin
+        anchored = moved_if_explained(correction, False)
         if anchored is not None or not unseen_travel:
             return anchored
         shift = offset_along_x(level_ranges, view.ranges, layout)

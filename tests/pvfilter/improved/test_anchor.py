@@ -19,6 +19,7 @@ from pvfilter.improved.anchor import (
     explains_view_error,
     offset_along_x,
     register_view,
+    within_margin,
 )
 from pvfilter.improved.evidence import free_space_gaps
 from pvfilter.improved.motion import STILL
@@ -54,6 +55,36 @@ def test_the_view_registered_against_the_scan_recovers_its_drift():
     assert correction is not None
     assert math.degrees(abs(correction.theta_rad - yaw)) < 0.1
     assert abs(correction.tx_m - x) < 0.01 and abs(correction.ty_m - y) < 0.01
+
+
+@pytest.mark.parametrize(
+    ("tx_m", "turn_deg", "within"),
+    [(0.0, 0.0, True), (0.07, 0.8, True), (0.09, 0.0, False), (0.0, 0.9, False)],
+)
+def test_a_correction_within_the_free_space_margin_leaves_the_view_where_it_is(
+    tx_m, turn_deg, within
+):
+    # the margin is 0.08 m + 0.015 r: a correction moves a point at r by |t| + |theta| r
+    correction = Motion(math.radians(turn_deg), tx_m, 0.0)
+    assert within_margin(correction, PARAMS) is within
+
+
+def test_the_filter_tries_nothing_more_where_the_view_registers_within_the_margin(monkeypatch):
+    # a view 3 cm off: the registration finds it where the scan says; the view is not
+    # moved, and not searched along x
+    searched = []
+    monkeypatch.setattr("pvfilter.improved.filter.offset_along_x", lambda *args: searched.append(1))
+    pvf = ImprovedPitchVariationFilter(PARAMS)
+    layout_scan, _ = room_scan(noise_m=0.005, seed=1)
+    layout = BeamLayout.of(layout_scan)
+    view = view_of(room_scan((0.03, 0.0, 0.0), noise_m=0.0)[0])
+    gaps = free_space_gaps(ranges_of(layout_scan), view.ranges, layout, layout_scan.range_max)
+    pvf._start(layout_scan)
+    anchored = pvf._reanchor(
+        layout_scan, ranges_of(layout_scan), ranges_of(layout_scan), directions_of(layout_scan),
+        view, gaps, STILL, Motion(), True,
+    )  # fmt: skip
+    assert anchored is None and not searched
 
 
 def test_a_drifted_view_is_corrected_where_returns_are_seen_through_it():
