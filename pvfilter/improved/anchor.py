@@ -149,12 +149,7 @@ def offset_along_x(
     telling = np.isfinite(view_ranges) & (np.abs(layout.cos) > 0.5)
     view = layout.points(np.where(telling, view_ranges, np.nan))[telling]
     shifts = np.arange(-SEARCH_SPAN_M, SEARCH_SPAN_M + 0.5 * SEARCH_STEP_M, SEARCH_STEP_M)
-    x = view[:, 0] + shifts[:, None]  # (shifts, points)
-    y = np.broadcast_to(view[:, 1], x.shape)
-    beams = layout.beam_at(x.ravel(), y.ravel()).reshape(x.shape)
-    seen = np.append(level_ranges, np.nan).take(beams)  # beam -1 (outside the scan): NaN
-    on_view = np.abs(seen - np.hypot(x, y)) <= 0.5 * SEARCH_STEP_M  # NaN compares False
-    best = int(np.count_nonzero(on_view, axis=1).argmax())
+    best = int(layout.hits_along_x(view, level_ranges, shifts, 0.5 * SEARCH_STEP_M).argmax())
     if abs(shifts[best]) < 0.5 * ASSOCIATION_M:  # the registration from no shift reaches it
         return None
     return Motion(0.0, float(shifts[best]), 0.0)

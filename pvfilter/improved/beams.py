@@ -77,6 +77,19 @@ class BeamLayout:
         beams[(beams < 0) | (beams >= self.count)] = -1
         return beams
 
+    def hits_along_x(
+        self, points: np.ndarray, ranges: np.ndarray, shifts_m: np.ndarray, tolerance_m: float
+    ) -> np.ndarray:
+        """Per shift of ``shifts_m`` along x: how many of ``points`` (``(k, 2)``, m), so
+        shifted, land within ``tolerance_m`` of the range that ``ranges`` (per beam, m; NaN:
+        none) holds on their beam. All shifts in one pass over the points."""
+        x = points[:, 0] + shifts_m[:, None]  # (shifts, points)
+        y = np.broadcast_to(points[:, 1], x.shape)
+        beams = self.beam_at(x.ravel(), y.ravel()).reshape(x.shape)
+        seen = np.append(ranges, np.nan).take(beams)  # beam -1 (outside the scan): NaN
+        on = np.abs(seen - np.hypot(x, y)) <= tolerance_m  # NaN compares False
+        return np.count_nonzero(on, axis=1)
+
     def every_beam(self) -> np.ndarray:
         """The beam indices ``0 .. count - 1`` (cached; not to be changed)."""
         if "every" not in self._tables:

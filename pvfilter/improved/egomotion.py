@@ -257,9 +257,8 @@ class EgoMotion:
         the motion since it: a reference with nothing to match would fail every match
         after it, until the filter re-baselines and loses its level view.
         """
-        reference = unstretch(points, tilt_rad)
-        reference = reference.copy() if reference is points else reference
-        every = reference.copy()  # new returns too: for a search across a wide step
+        every = unstretch(points, tilt_rad)  # new returns too: for a search across a wide step
+        reference = every.copy()
         moving = indices(moving)
         reference[moving] = np.nan
         if match.trusted and dt > 0.0:

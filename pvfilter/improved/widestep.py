@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from pvfilter.improved.beams import BeamLayout, indices
+from pvfilter.improved.memory import nearest_first
 from pvfilter.improved.motion import MIN_PAIRS, STILL, Motion, estimate_motion, motion_of
 
 MAX_ACCEL_MPS2 = 5.0  # m/s^2: a balancing robot's hardest braking or speeding up (harder and
@@ -119,25 +120,17 @@ def _best_shift(
     scan's ``ranges`` (the first of equals), and how many it puts there."""
     count = math.floor(span_m / SEARCH_STEP_M)
     shifts = SEARCH_STEP_M * np.arange(-count, count + 1)
-    x = moved[:, 0] + shifts[:, None]  # (shifts, points)
-    y = np.broadcast_to(moved[:, 1], x.shape)
-    beams = layout.beam_at(x.ravel(), y.ravel()).reshape(x.shape)
-    seen = np.append(ranges, np.nan).take(beams)  # beam -1 (outside the scan): NaN
-    on = np.abs(seen - np.sqrt(x * x + y * y)) <= ON_LINE_M  # NaN compares False
-    hits = np.count_nonzero(on, axis=1)
+    hits = layout.hits_along_x(moved, ranges, shifts, ON_LINE_M)
     best = int(hits.argmax())
     return float(shifts[best]), int(hits[best])
 
 
 def _binned(points: np.ndarray, layout: BeamLayout) -> np.ndarray:
     """``points`` (any order, NaN rows skipped) per beam of ``layout``, the nearest winning
-    a beam; NaN rows where none lands."""
-    keep = indices(points[:, 0] == points[:, 0])
-    points = points.take(keep, axis=0)
+    a beam (:func:`~pvfilter.improved.memory.nearest_first`); NaN rows where none lands."""
+    points = points.take(indices(points[:, 0] == points[:, 0]), axis=0)
     beams = layout.beam_of(points)
-    inside = indices(beams >= 0)
-    points, beams = points.take(inside, axis=0), beams.take(inside)
-    order = np.argsort(-np.hypot(points[:, 0], points[:, 1]), kind="stable")  # nearest last
+    order = nearest_first(beams, np.hypot(points[:, 0], points[:, 1]), layout)
     binned = np.full((layout.count, 2), np.nan)
     binned[beams.take(order)] = points.take(order, axis=0)
     return binned
