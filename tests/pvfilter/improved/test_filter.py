@@ -176,7 +176,7 @@ def test_a_time_gap_starts_afresh_and_removes_nothing():
 
 def test_at_two_scans_a_second_the_drive_is_searched_and_a_floor_line_removed():
     # 2 Hz: the robot speeds up from standing to 1 m/s and brakes, 0.5 s between scans;
-    # the constant-velocity prior is then up to 0.4 m off, beyond association_m, and the
+    # the constant-velocity prior is then up to 0.5 m off, beyond association_m, and the
     # drive between the scans is searched. One scan of the hard stop is pitched 8 deg
     params = ImprovedParams(lidar_height_m=HEIGHT_M)
     assert params.max_gap_s >= 0.5
