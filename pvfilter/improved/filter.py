@@ -214,8 +214,9 @@ class ImprovedPitchVariationFilter:
         points = layout.points(ranges)
         beams = indices(valid)
         line_params = self._line_params  # the point counts for this scan's beam spacing
+        no_echo = scan.ranges == np.inf  # beams that returned nothing: bridged in lines
         segments = segment_scan(
-            points.take(beams, axis=0), beams, layout.increment, line_params, layout.ring
+            points.take(beams, axis=0), beams, layout.increment, line_params, layout.ring, no_echo
         )
         directions = np.empty(len(scan))
         directions.fill(np.nan)

@@ -230,9 +230,15 @@ def score_segments(
     not_static, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
     score *= not_static
     score[beyond] *= params.up_side_weight
-    down, down_tilt = _down_side(gates, new_counts, side, tilt, attitude, params)
+    down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     if down != 0 and params.up_side_weight < 1.0:
-        too_near = distances < ceiling_min_distance(down_tilt, params)
+        # a rotating scan measures its lines at different tilts: the floor side's strong
+        # lines show how steep the plane got, and a ceiling can be that much nearer
+        strong_down = gates & (side == down) & (new_counts >= params.down_side_min_new)
+        steepest = (
+            max(down_tilt, float(tilt[strong_down].max())) if strong_down.any() else down_tilt
+        )
+        too_near = distances < ceiling_min_distance(steepest, params)
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
         score *= params.up_side_weight
@@ -362,12 +368,20 @@ def _down_side(
     new_counts: np.ndarray,
     side: np.ndarray,
     tilt: np.ndarray,
+    distances: np.ndarray,
     attitude: Attitude | None,
     params: ImprovedParams,
 ) -> tuple[int, float]:
     """Where the floor is (+1 ahead, -1 behind, 0 unknown) and the tilt that puts it there.
 
-    The IMU's pitch when it says the plane is tilted; else the strongest gated line.
+    The IMU's pitch when it says the plane is tilted; else the strongest gated line,
+    unless the strongest line on the other side tells otherwise. A plane tilts down on one
+    side only, and on the other it meets a ceiling, never nearer than
+    ``ceiling_min_distance`` for its tilt. Where the strongest line, taken for the floor,
+    leaves the other side's strong line nearer than that, and that line, taken for the
+    floor, puts the strongest one where a ceiling can be, the other side is the floor's:
+    one tilt then explains both lines (nose up in a hall, the ceiling line ahead can hold
+    more new points than the floor line behind, which the body hides in part).
     """
     if attitude is not None and attitude.tilted:
         return attitude.down_side, attitude.tilt_rad
@@ -375,7 +389,16 @@ def _down_side(
     strongest = int(strength.argmax()) if strength.size else 0
     if strength.size == 0 or strength[strongest] < params.down_side_min_new:
         return 0, math.nan
-    return int(side[strongest]), float(tilt[strongest])
+    down, down_tilt = int(side[strongest]), float(tilt[strongest])
+    other_side = np.where(side == -down, strength, 0.0)
+    other = int(other_side.argmax())
+    if other_side[other] >= params.down_side_min_new:
+        other_tilt = float(tilt[other])
+        if distances[other] < ceiling_min_distance(down_tilt, params) and distances[
+            strongest
+        ] >= ceiling_min_distance(other_tilt, params):
+            return -down, other_tilt
+    return down, down_tilt
 
 
 def _imu_agreement(

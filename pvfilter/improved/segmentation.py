@@ -29,6 +29,11 @@ from pvfilter.improved.params import ImprovedParams
 
 MIN_HALF_WIDTH = 3  # beams: the chord spans at least this many neighbours on each side
 MAX_HALF_WIDTH = 40  # beams: and at most this many (20 deg at 2 beams per degree)
+BRIDGE_INCIDENCE_DEG = 70.0  # deg: beams without a return between two points of one
+# line widen the gap allowed between them by the spacing of beams on a line met at up to
+# this angle from its normal, r * increment / cos(angle) per missing beam (a floor line at
+# grazing incidence returns no echo on many of its beams, and comes in fragments)
+BRIDGE_MAX_DEG = 5.0  # deg: wider stretches of missing beams are not bridged
 SINE_BAND_RAD = 1e-6  # rad: a direction this far from a sine bound's angle is on one
 # side of it: the sine differs from the bound by at least 2 sin^2(band / 2) = 5e-13 even
 # next to pi/2, where the sine is flattest, far more than its rounding (1e-16)
@@ -236,12 +241,51 @@ class Segments:
         return self._fit[4]
 
 
+def break_distances(
+    ranges: np.ndarray,
+    beams: np.ndarray,
+    increment: float,
+    break_distance_m: float,
+    no_echo: np.ndarray | None = None,
+) -> np.ndarray:
+    """Per pair of consecutive valid points: the gap that cuts a segment between them, m.
+
+    ``break_distance_m`` plus 2 % of the range (``ranges``: the second point's, m), widened
+    where beams without an echo lie between the two (``beams``: the valid points' beam
+    indices, ascending) by ``range * increment / cos(BRIDGE_INCIDENCE_DEG)`` per missing
+    beam, where they span at most ``BRIDGE_MAX_DEG`` (a wider gap is open space). A line
+    the plane meets at grazing incidence (the floor, the ceiling) returns no echo on many
+    beams; its points then lie several beam spacings apart, and the pieces between the
+    dropouts are one line. ``no_echo``: per beam of the scan, it returned nothing within
+    range (``+inf``); a gap with an invalid beam (``NaN``, ``-inf``) in it is not bridged
+    (None: every missing beam counts as one without an echo).
+    """
+    cut = break_distance_m + 0.02 * ranges
+    most = round(math.radians(BRIDGE_MAX_DEG) / abs(increment))
+    steps = beams[1:] - beams[:-1]
+    gaps = indices((steps > 1) & (steps <= most + 1))  # (few: most beams return)
+    if no_echo is not None and gaps.size:  # the first beam between returned nothing
+        gaps = gaps.compress(no_echo.take(beams.take(gaps) + 1))
+    if gaps.size == 0:
+        return cut
+    missing = steps.take(gaps) - 1
+    if no_echo is not None:  # and so did every other, or it is a gap
+        between = beams.take(gaps)[:, None] + np.arange(1, most + 1)  # (gaps, most)
+        np.minimum(between, len(no_echo) - 1, out=between)
+        echoless = no_echo.take(between) | (np.arange(most) >= missing[:, None])
+        missing *= np.logical_and.reduce(echoless, axis=1)
+    per_missing = abs(increment) / math.cos(math.radians(BRIDGE_INCIDENCE_DEG))
+    cut[gaps] += ranges.take(gaps) * (per_missing * missing)
+    return cut
+
+
 def segment_scan(
     points: np.ndarray,
     beams: np.ndarray,
     increment: float,
     params: ImprovedParams,
     ring: bool = False,
+    no_echo: np.ndarray | None = None,
 ) -> Segments:
     """Cut the valid points of a scan into segments (their lines are fitted on demand).
 
@@ -251,6 +295,7 @@ def segment_scan(
         increment: angle between beams, rad.
         params: ``chord_m``, ``line_angle_deg`` and ``break_distance_m`` are used.
         ring: the beams cover a full turn: the last point neighbours the first.
+        no_echo: per beam of the scan, it returned nothing (:func:`break_distances`).
     """
     m = len(points)
     if m == 0:
@@ -259,7 +304,7 @@ def segment_scan(
     ranges = np.hypot(points[:, 0], points[:, 1])
     step = points[1:] - points[:-1]
     gap = np.hypot(step[:, 0], step[:, 1])
-    jumps = gap > params.break_distance_m + 0.02 * ranges[1:]
+    jumps = gap > break_distances(ranges[1:], beams, increment, params.break_distance_m, no_echo)
     half_widths = chord_half_widths(ranges, increment, params.chord_m)
     directions = _chord_directions(points, half_widths, jumps.nonzero()[0] + 1)
     across = across_travel(directions, params.line_angle_deg)

@@ -106,6 +106,24 @@ def test_every_frame_of_a_pitch_event_is_removed_and_little_else(beams):
         assert on_floor.shape == result.removed.shape
 
 
+def test_a_floor_line_that_returns_no_echo_on_most_beams_is_still_removed():
+    # a 1 deg scanner, 5 deg at most: the floor line 2.9 m ahead or more, met at grazing
+    # incidence, returns on every fifth beam only, its points 25 cm apart or more: each a
+    # fragment of one point (no beam is removed without bridging the dropouts)
+    def frames():
+        for (scan, on_floor), pitch in drive(event=(10, 12, 5.0), beams=360):
+            echo = on_floor & (np.arange(len(scan)) % 5 == 0)
+            ranges = np.where(on_floor & ~echo, np.inf, scan.ranges)
+            yield (scan.with_ranges(ranges), echo), pitch
+
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    results, truth = run(ImprovedPitchVariationFilter(params), frames())
+    removed, positive = np.array([r.removed for r in results]), np.array(truth)
+    assert positive.sum() >= 70
+    assert precision(removed, positive) > 0.95
+    assert (removed & positive).sum() >= 0.75 * positive.sum()
+
+
 def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
     # the floor line ramps in over 3 frames and then stays 2.4 m ahead, ending 0.3 m in
     # front of the wall. A tilted scan does not teach the level view, so the line stays

@@ -103,6 +103,37 @@ def test_a_line_on_the_up_side_nearer_than_a_ceiling_can_be_is_weighted_down():
     assert flat.scores[at(segments, 60)] == pytest.approx(1.0)
 
 
+def test_where_the_strongest_line_leaves_no_room_for_a_ceiling_behind_the_floor_is_behind():
+    # nose up: the floor 1.3 m behind (11 deg), the ceiling ahead at 9 m with more new
+    # points; taken for the floor, the line ahead (1.6 deg) would leave no ceiling nearer
+    # than tens of metres behind, while 11 deg puts a ceiling ahead from 8.6 m on
+    floor = line(-1.3, -0.7, -1.3, 0.7, 60)
+    ceiling = line(9.0, -3.0, 9.0, 3.0, 100)
+    assert 8.0 < (PARAMS.min_ceiling_m - HEIGHT_M) / (HEIGHT_M / 1.3) < 9.0
+    segments, result = scored(floor, ceiling)
+    assert result.down_side == -1
+    assert result.down_tilt_rad == pytest.approx(math.asin(HEIGHT_M / 1.3), abs=1e-3)
+    assert result.scores[at(segments, 0)] == pytest.approx(1.0)  # the floor
+    assert result.scores[at(segments, 60)] == pytest.approx(1.0)  # the ceiling
+    # furniture behind that a ceiling ahead cannot explain leaves the floor ahead
+    furniture = line(-1.0, -0.5, -1.0, 0.5, 30)
+    floor_ahead = line(1.44, -1.5, 1.44, 1.5, 60)
+    segments, result = scored(floor_ahead, furniture)
+    assert result.down_side == 1
+
+
+def test_a_ceiling_may_lie_as_near_as_the_steepest_strong_floor_line_allows():
+    # a rotating scan measured the floor behind at two tilts, 12 deg and (its strongest
+    # line) 7.2 deg; a ceiling 10 m ahead is too near for 7.2 deg (13.2 m), not for 12
+    steep = line(-1.2, 0.2, -1.2, 1.0, 40)
+    shallow = line(-2.0, -2.0, -2.0, -0.2, 80)
+    ceiling = line(10.0, -2.0, 10.0, 2.0, 50)
+    segments, result = scored(steep, shallow, ceiling)
+    assert result.down_side == -1
+    assert result.down_tilt_rad == pytest.approx(math.asin(HEIGHT_M / 2.0), abs=1e-3)
+    assert result.scores[at(segments, 120)] == pytest.approx(1.0)
+
+
 def test_the_imu_supports_a_line_where_it_puts_the_floor_and_weighs_down_one_it_cannot():
     tilt = math.radians(10.0)
     floor = line(HEIGHT_M / math.sin(tilt), -1.5, HEIGHT_M / math.sin(tilt), 1.5, 60)

@@ -7,8 +7,11 @@ import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
 from pvfilter.improved.segmentation import (
+    BRIDGE_INCIDENCE_DEG,
+    BRIDGE_MAX_DEG,
     MAX_HALF_WIDTH,
     across_travel,
+    break_distances,
     chord_half_widths,
     local_directions,
 )
@@ -82,6 +85,46 @@ def test_range_jumps_split_segments():
                       + [[3.0, y] for y in np.linspace(0.4, 1.0, 10)])  # fmt: skip
     segments = segment_scan(points, np.arange(20), INCREMENT, ImprovedParams())
     assert len(segments) == 2 and segments.sizes.tolist() == [10, 10]
+
+
+def test_beams_without_a_return_between_two_points_widen_the_gap_that_cuts():
+    ranges = np.full(5, 3.0)
+    beams = np.array([0, 1, 3, 7, 100, 101])  # 0, 1, 3, 92 and 0 beams missing between
+    increment = math.radians(1.0)
+    cut = break_distances(ranges, beams, increment, 0.15)
+    per_missing = 3.0 * increment / math.cos(math.radians(BRIDGE_INCIDENCE_DEG))
+    assert 3 < BRIDGE_MAX_DEG < 92  # (beams of 1 deg)
+    expected = 0.15 + 0.02 * 3.0 + per_missing * np.array([0, 1, 3, 0, 0])
+    np.testing.assert_allclose(cut, expected, rtol=1e-12)
+    assert cut[0] == 0.15 + 0.02 * 3.0  # neighbours: the gap is as it always was
+
+
+def test_a_floor_line_that_returns_no_echo_on_most_beams_stays_one_segment():
+    # a 1 deg scanner, the floor line 3 m ahead; at grazing incidence only every fifth
+    # beam returns (4 missing between): 26-45 cm apart, beyond the neighbours' break distance
+    increment = math.radians(1.0)
+    beams = np.arange(-40, 41, 5) + 180
+    angles = (beams - 180) * increment
+    points = np.column_stack((np.full(len(beams), 3.0), 3.0 * np.tan(angles)))
+    gaps = np.hypot(*np.diff(points, axis=0).T)
+    assert np.all(gaps > 0.15 + 0.02 * 3.0)  # each point alone, without the bridge
+    no_echo = np.ones(360, bool)  # every beam between returned nothing (+inf)
+    segments = segment_scan(points, beams, increment, ImprovedParams(), no_echo=no_echo)
+    assert len(segments) == 1 and segments.across[0]
+    assert segments.distances[0] == pytest.approx(3.0)
+    # beams that returned something invalid (NaN) between are no echo of a line: a gap
+    no_echo[beams[0] + 1 : beams[1]] = False
+    segments = segment_scan(points, beams, increment, ImprovedParams(), no_echo=no_echo)
+    assert segments.sizes[0] == 1 and len(segments) >= 2
+
+
+def test_a_range_jump_across_missing_beams_still_cuts():
+    increment = math.radians(1.0)
+    near = [[1.0, 1.0 * math.tan((b - 180) * increment)] for b in range(170, 180)]
+    far = [[3.0, 3.0 * math.tan((b - 180) * increment)] for b in range(184, 194)]
+    beams = np.concatenate((np.arange(170, 180), np.arange(184, 194)))
+    segments = segment_scan(np.array(near + far), beams, increment, ImprovedParams())
+    assert segments.sizes.tolist() == [10, 10]
 
 
 @pytest.mark.parametrize(
