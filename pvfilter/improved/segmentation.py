@@ -6,7 +6,9 @@ continuous curve: distance-based clustering joins the two (the paper's filter th
 cluster that is mostly wall). Here every point gets the direction of its neighbourhood in
 scan order (not across a range jump), and a segment is a run of consecutive points that
 
-- are at most ``break_distance_m`` (plus 2 % of the range) apart, and
+- are at most ``break_distance_m`` (plus 2 % of the range) apart, farther where beams
+  that returned no echo lie between them (:func:`break_distances`: a floor met at a
+  grazing angle echoes on a few beams only), and
 - all lie on a line across the direction of travel (local direction within
   ``line_angle_deg`` of the sensor's y axis), or all do not.
 
