@@ -14,10 +14,13 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    fit's own error explain. A segment that fails gets no score.
 3. **The two sides**: a tilted plane goes down on one side of the sensor and up on the
    other. The down side is the side of the strongest line (the gated segment with the
-   most new points, at least ``down_side_min_new``), or the IMU's. On the up side there is
-   only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the tilt the
-   strongest line implies: a nearer line there is furniture met at another height, and its
-   score is multiplied by ``up_side_weight``. A scan with no strong line and no IMU shows
+   most new points, at least ``down_side_min_new``), or the IMU's; unless the strongest
+   line of the other side, taken for the floor, explains both lines where the strongest,
+   taken for the floor, cannot (:func:`_down_side`). On the up side there is only the
+   ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the steepest tilt the
+   down side's strong lines imply (a rotating sweep measures them at different tilts): a
+   nearer line there is furniture met at another height, and its score is multiplied by
+   ``up_side_weight``. A scan with no strong line and no IMU shows
    no pitch event at all (a tilted plane meets the floor along a whole line): all its
    lines are weighted so, as short new structure in clutter most often is.
 4. **Length, the world, what lies beyond**: a floor line spans the open space, so a
