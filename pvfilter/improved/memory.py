@@ -21,10 +21,17 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   or one that continues a recent strong line, :mod:`pvfilter.improved.follow`) the view
   does not come closer at all; elsewhere a return pulls it closer by at most
   ``memory_shrink_mps`` times the time step (a person walking in, an ego-motion error);
-- beams with no return within range (``+inf``) remember free space up to ``range_max``;
+- beams with no return within range (``+inf``) remember free space up to ``range_max``,
+  once confirmed as above; but a beam without an echo next to a beam that returns on the
+  view or in front of it frees nothing: a dark surface, or one met at grazing incidence,
+  echoes on some beams and some scans only, and its silent beams are dropouts, not space
+  seen free;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
-  event lasts) replaces it: the view was wrong.
+  event lasts) replaces it: the view was wrong. A level scan in which the beam returned
+  no echo says nothing of what stands there: it neither stops that clock nor starts it
+  (in a tilted scan it does stop it: a floor line moves with the pitch, and where it
+  went silent it has moved on).
 
 The memory does not depend on what the filter removed (the segments it holds behind are
 chosen whatever ``p_th``), so the filter's state, and with it every threshold of a
@@ -166,8 +173,12 @@ class LevelMemory:
         # in front of the view this long: the clocks are finite and >= 0 (sums of time
         # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
         ahead = view.ahead_s + dt
-        ahead *= in_front
-        settled = indices(ahead > params.max_event_s)  # (indices: mostly none)
+        # in a level scan a beam without an echo says nothing of what stands in front of
+        # the view (a dark wall echoes on some scans only): its clock runs on if it ran,
+        # and a return settles the view only when there is one (in a tilted scan the
+        # floor line moves with the pitch: where it went silent, it has moved on)
+        ahead *= in_front | (no_return & (view.ahead_s > 0.0) & level)
+        settled = indices((ahead > params.max_event_s) & in_front)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0
         if not level:  # a tilted plane: the view only moves, and its clock stands still
@@ -176,7 +187,15 @@ class LevelMemory:
             self.state = LevelView(current, view.ages, ahead, view.farther_s)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
-        beyond = (ranges > current + margin) | (no_return & (current != np.inf))
+        beyond = ranges > current + margin
+        silent = no_return & (current != np.inf)
+        if np.count_nonzero(silent):
+            # no echo beside a return on the view or in front of it: a dropout of that
+            # surface, not space seen free
+            surface = valid & ~beyond
+            silent[1:] &= ~surface[:-1]
+            silent[:-1] &= ~surface[1:]
+            beyond |= silent
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)

@@ -124,6 +124,25 @@ def test_a_floor_line_that_returns_no_echo_on_most_beams_is_still_removed():
     assert (removed & positive).sum() >= 0.75 * positive.sum()
 
 
+def test_a_dark_wall_that_echoes_on_a_few_beams_is_kept_as_the_robot_drives_at_it():
+    # no pitch at all: the wall ahead echoes on a random third of its beams per scan, as
+    # dark surfaces do; its silent beams must not make the view free for the next echoes
+    rng = np.random.default_rng(1)
+
+    def frames():
+        for (scan, _), pitch in drive(event=(10, 8, 0.0)):
+            dark = (np.abs(scan.angles()) < math.radians(30.0)) & np.isfinite(scan.ranges)
+            silent = dark & (rng.random(len(scan)) > 0.3)
+            yield (scan.with_ranges(np.where(silent, np.inf, scan.ranges)), dark), pitch
+
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    results, on_dark_wall = run(ImprovedPitchVariationFilter(params), frames())
+    removed, echoes = np.array([r.removed for r in results]), np.array(on_dark_wall)
+    echoes &= np.array([r.scan.valid_mask() | r.removed for r in results])
+    assert echoes.sum() > 1000
+    assert (removed & echoes).sum() < 0.02 * echoes.sum()  # freed by the silences: 211 of 1,415
+
+
 def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
     # the floor line ramps in over 3 frames and then stays 2.4 m ahead, ending 0.3 m in
     # front of the wall. A tilted scan does not teach the level view, so the line stays

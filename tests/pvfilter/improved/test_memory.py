@@ -124,6 +124,58 @@ def test_no_return_remembers_free_space():
     assert np.isposinf(view.ranges).all()
 
 
+def silent_on(scan, beams):
+    """``scan`` with no echo (``+inf``) on ``beams``."""
+    ranges = scan.ranges.copy()
+    ranges[beams] = np.inf
+    return scan.with_ranges(ranges)
+
+
+def test_no_echo_beside_returns_on_the_view_does_not_free_it():
+    level, _ = room_scan(noise_m=0.0)
+    ahead = np.flatnonzero(np.abs(level.angles()) < math.radians(20.0))
+    # a dark wall ahead: every other beam echoes (on one side), none does (on the other)
+    left, right = ahead[ahead >= len(level) // 2], ahead[ahead < len(level) // 2]
+    dark = silent_on(level, np.concatenate((left[::2], right)))
+    memory = remembered(level)
+    for _ in range(5):  # 0.5 s, twice confirm_free_s
+        step(memory, dark)
+    assert np.isfinite(memory.state.ranges[left]).all()  # dropouts: the wall stays
+    # silent throughout (but for the beam beside the echoes around it): free
+    assert np.isposinf(memory.state.ranges[right[1:-1]]).all()
+
+
+def test_a_dark_surface_in_front_of_the_view_settles_though_it_echoes_now_and_then():
+    params = dataclasses.replace(PARAMS, max_event_s=0.3)
+    level, _ = room_scan(noise_m=0.0)
+    box = np.array([[[1.0, -0.4], [1.0, 0.4]]])
+    with_box, _ = room_scan(extra=box, noise_m=0.0)
+    ahead = np.abs(level.angles()) < math.radians(5.0)
+    dark = silent_on(with_box, np.flatnonzero(ahead))
+    memory = remembered(level, params)
+    for scan in (with_box, dark, with_box, dark, with_box):  # echoes on every other scan
+        step(memory, scan, params=params, hold=ahead)  # (held: no shrink towards it)
+    np.testing.assert_allclose(memory.state.ranges[ahead], with_box.ranges[ahead])
+    # a beam that never had a return in front starts no clock on silence
+    open_space = level.with_ranges(np.full(len(level), np.inf))
+    quiet = remembered(level, params)
+    for _ in range(5):
+        step(quiet, open_space, params=params)
+    assert (quiet.state.ahead_s == 0.0).all()
+
+
+def test_in_a_tilted_scan_a_floor_line_gone_silent_stops_the_clock():
+    # a floor line moves with the pitch: a beam of it without an echo has moved on
+    params = dataclasses.replace(PARAMS, max_event_s=0.3)
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    grazing = silent_on(pitched, np.flatnonzero(on_floor))
+    memory = remembered(level, params)
+    for scan in (pitched, grazing, pitched, grazing, pitched):
+        step(memory, scan, params=params, level=False)
+    np.testing.assert_allclose(memory.state.ranges[on_floor], level.ranges[on_floor])
+
+
 def written(beams, ranges, order, count):
     """Per beam, the range and the point index written last in ``order``."""
     values, owners = np.full(count, np.nan), np.full(count, -1)
