@@ -28,12 +28,19 @@ def extension_claims(
 
     Going outward from each end, a point joins while it is within ``extend_tolerance_m``
     (plus 1 % of its range) of the line and within ``break_distance_m`` (plus 2 %) of the
-    point before it, for at most ``extend_beams`` points.
+    point before it, for at most ``extend_beams`` points, and unless it belongs to another
+    segment of at least ``min_points`` points whose own line it lies nearer, by more than
+    the scatter of that segment's points about its line: the wall a floor line runs into.
+    Near the corner both lines pass within the tolerance of the wall's points, and on a
+    dense scanner that is a dozen wall beams at each end of the line, in every scan of a
+    pitch event; a point at the corner itself, within the noise of both lines, still
+    joins.
 
     Args:
         segments: the segments.
         lines: the segments that may extend.
-        params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``.
+        params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``,
+            ``min_points``.
     """
     reach, m = params.extend_beams, len(segments.points)
     if reach == 0 or lines.size == 0:
@@ -66,6 +73,17 @@ def extension_claims(
     if inside is not None:
         on &= inside
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
+    # a point of another segment that lies nearer that segment's own line, by more than
+    # the scatter of its points about it, is the wall the line runs into: at the corner
+    # both lines pass within the tolerance of its points
+    own = labels.take(index)
+    own_offset = (candidate - segments.centroids.take(own, axis=0)) * segments.normals.take(
+        own, axis=0
+    )
+    own_off = np.abs(np.add.reduce(own_offset, axis=2))
+    own_off += np.sqrt(segments.spread_across.take(own))
+    other = (own != owner[:, None]) & (segments.sizes.take(own) >= params.min_points)
+    on &= ~(other & (own_off < off_line))
     joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
     return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
 

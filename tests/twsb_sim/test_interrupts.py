@@ -20,7 +20,9 @@ import pytest
 from twsb_sim.cli import EXIT_BROKEN_PIPE, EXIT_INTERRUPTED, main
 
 REPO = Path(__file__).resolve().parents[2]
-LONG = "duration_s = 60.0\n[[commands]]\nt_s = 0.5\nvelocity_mps = 0.5\nramp_s = 1.0\n"
+# ten simulated minutes: far longer than any load can make the signal take to land
+LONG = "duration_s = 600.0\n[[commands]]\nt_s = 0.5\nvelocity_mps = 0.5\nramp_s = 1.0\n"
+LONG_FRAMES = 6001
 SHORT_RANGES = "[episode]\nduration_s = [2.0, 3.0]\n"
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 
@@ -106,11 +108,11 @@ def test_run_keeps_the_frames_simulated_before_the_interrupt(tmp_path, how):
     scenario.write_text(LONG)
     out, rrd = tmp_path / "run", tmp_path / "recordings" / "long.rrd"
     command = Command("run", str(scenario), "--out", str(out), "--rrd", str(rrd))
-    some_frames = lambda err: re.search(r" [1-9]\d*/601 ", err) is not None  # noqa: E731
+    some_frames = lambda err: re.search(rf" [1-9]\d*/{LONG_FRAMES} ", err) is not None  # noqa: E731
     assert command.interrupt_when(some_frames, how) == EXIT_INTERRUPTED
     command.check_clean_stop(how)
     with np.load(out / "frames.npz") as frames:
-        assert 0 < len(frames["stamps"]) < 601
+        assert 0 < len(frames["stamps"]) < LONG_FRAMES
     assert json.loads((out / "summary.json").read_text())["end_reason"] == "interrupted"
     assert rrd.stat().st_size > 0
     _no_partials(tmp_path)

@@ -37,6 +37,20 @@ def test_extension_takes_the_points_on_the_line_up_to_the_corner():
     assert set(owners.tolist()) == {segments.labels[0]}
 
 
+def test_extension_leaves_a_wall_the_line_runs_into_to_the_wall():
+    # nose down in a corridor: the side wall is seen up to where the floor line meets it;
+    # its last centimetres lie within the tolerance of the floor line too, but on the
+    # wall's own line
+    wall = line(0.0, -0.75, 0.495, -0.75, 100)  # 5 mm apart, as a 0.25° scanner sees it
+    floor = line(0.5, -0.75, 0.5, 0.5, 250)
+    segments = segments_of(wall, floor)
+    floor_line = segments.labels[-1]
+    points, _ = extension_claims(segments, np.array([floor_line]), PARAMS)
+    taken = set(points.tolist()) | set(np.flatnonzero(segments.labels == floor_line).tolist())
+    assert set(range(100, 350)) <= taken  # the floor line's own points at the corner too
+    assert not taken & set(range(100)), sorted(taken & set(range(100)))  # before: 93-99
+
+
 def test_spread_claims_fragments_on_the_line_on_its_side_only():
     main = line(2.0, -0.5, 2.0, 0.5)
     fragment = line(2.0, 1.0, 2.0, 1.1, 3)  # between furniture legs
