@@ -191,7 +191,8 @@ class LevelMemory:
         silent = no_return & (current != np.inf)
         if np.count_nonzero(silent):
             # no echo beside a return on the view or in front of it: a dropout of that
-            # surface, not space seen free
+            # surface, not space seen free (the first and last beams have one neighbour
+            # each, on a full turn too: one pair of beams, not worth a wrap)
             surface = valid & ~beyond
             silent[1:] &= ~surface[:-1]
             silent[:-1] &= ~surface[1:]
