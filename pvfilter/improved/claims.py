@@ -67,8 +67,7 @@ def extension_claims(
     ranges = segments.ranges.take(index)
     # rows gathered by take: indexing rows with an index array costs several times more
     normal, centre = segments.normals.take(owner, axis=0), segments.centroids.take(owner, axis=0)
-    offset = (candidate - centre[:, None, :]) * normal[:, None, :]
-    off_line = np.abs(np.add.reduce(offset, axis=2))
+    off_line = _distance_to_line(candidate, centre[:, None, :], normal[:, None, :])
     on = off_line <= params.extend_tolerance_m + 0.01 * ranges
     if inside is not None:
         on &= inside
@@ -77,15 +76,22 @@ def extension_claims(
     # the scatter of its points about it, is the wall the line runs into: at the corner
     # both lines pass within the tolerance of its points
     own = labels.take(index)
-    own_offset = (candidate - segments.centroids.take(own, axis=0)) * segments.normals.take(
-        own, axis=0
+    own_centre, own_normal = (
+        segments.centroids.take(own, axis=0),
+        segments.normals.take(own, axis=0),
     )
-    own_off = np.abs(np.add.reduce(own_offset, axis=2))
+    own_off = _distance_to_line(candidate, own_centre, own_normal)
     own_off += np.sqrt(segments.spread_across.take(own))
     other = (own != owner[:, None]) & (segments.sizes.take(own) >= params.min_points)
     on &= ~(other & (own_off < off_line))
     joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
     return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
+
+
+def _distance_to_line(points: np.ndarray, centres: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Distance of each point from the line through its centre with its unit normal, m
+    (the last axis holds x and y; the others broadcast)."""
+    return np.abs(np.add.reduce((points - centres) * normals, axis=-1))
 
 
 def spread_claims(
