@@ -7,7 +7,11 @@ level view drifts, and when the robot levels the real wall in front looks new. S
 - each scan is **unstretched** before it is matched against the previous one (stored
   unstretched by its own tilt): its x axis is scaled by ``cos(tilt)``, the tilt being
   the IMU's when given, else the previous scan's (the pitch changes little in a scan
-  time; the previous scan's tilt is that of its floor line);
+  time; the previous scan's tilt is that of its floor line, or 0 where it shows none,
+  a scan that coasted too: matched at the tilt before it, a scan with no floor line in
+  it shows the robot levelled, and the tilt before would unstretch the next, level scan
+  as if tilted, its walls ahead and behind nearer by ``1 - cos(tilt)``, which the match
+  reads as travel);
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
   that grows with the step: the wheels slip on hard stops), else the last step at
   constant velocity; where that finds no pairs of points (a velocity from a bad match in
@@ -231,6 +235,12 @@ class EgoMotion:
         """
         self._carry(match.step, tilt_rad, dt, pose)
         return dataclasses.replace(match, trusted=True)
+
+    def coasted_tilt(self, tilt_rad: float) -> None:
+        """The tilt of the scan that coasted, once its lines are known (rad; 0 where it
+        showed no floor line): the next scan is unstretched by it, not by the guess the
+        coasted scan was matched with."""
+        self.tilt = tilt_rad
 
     def _carry(self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None) -> None:
         """Keep the reference and add ``step`` to the motion since it."""

@@ -195,8 +195,10 @@ class ImprovedPitchVariationFilter:
             self._attitude.check(confident, scores.imu_contradicted)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(prepared, found, outcome.coast)
-        if not outcome.coast:
-            tilt = self._tilt(detection, attitude)
+        tilt = self._tilt(detection, attitude)
+        if outcome.coast:
+            self._ego.coasted_tilt(tilt)
+        else:
             new_or_line = found.new | detection.candidates
             self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose)
         # remove: the beams of every detected segment become NaN

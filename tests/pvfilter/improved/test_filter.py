@@ -486,3 +486,30 @@ def test_the_robots_own_frame_in_view_does_not_pin_the_scan_match_to_standing(bo
     assert body_m is None or body_m < params.min_line_distance_m
     # 0.5 m driven over the ten matched scans: the jambs' few points tell it within 20 %
     assert sum(steps) == pytest.approx(-0.5, abs=0.1)
+
+
+def test_the_scan_after_a_coasted_level_scan_is_matched_level():
+    # a pitch event of two scans at 20 deg while driving at 0.5 m/s; the robot levels,
+    # and the first level scan's walls return next to nothing: too little to match, it
+    # coasts. It was matched at the last tilted scan's tilt (a guess), but it shows no
+    # floor line: the next scan is matched level. Unstretched by 20 deg instead, that
+    # scan's walls ahead and behind would sit 6 % nearer, which the match read as the
+    # robot driving 0.2 m back (the motion takes the reference's points into the scan's
+    # frame: -0.05 m along x for 0.05 m forward)
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    false_alarms = 0
+    for k in range(18):
+        pitch = math.radians(20.0) if k in (12, 13) else 0.0
+        scan, hit = tilted_scan((-1.5 + 0.05 * k, 0.0, 0.0), pitch, stamp=0.1 * k)
+        if k == 14:
+            faint = (hit == 1) & (np.arange(len(scan)) % 20 != 0)
+            scan = dataclasses.replace(scan, ranges=np.where(faint, np.nan, scan.ranges))
+        result = pvf.process(scan)
+        if k == 14:
+            assert result.lines.coasted
+        if k >= 14:
+            false_alarms += result.removed.sum()
+            if k > 14:
+                assert result.lines.motion.tx_m == pytest.approx(-0.05, abs=0.01)
+    assert false_alarms == 0
