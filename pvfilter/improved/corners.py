@@ -58,13 +58,14 @@ def split_at_corners(
         tried: per segment, it may be cut (None: every one may).
     """
     min_points = params.min_points
-    long_bent = (
-        segments.across
-        & (segments.sizes >= 2 * min_points)
-        & (segments.spread_across > STRAIGHT_SPREAD_M * STRAIGHT_SPREAD_M)
-    )
+    long_bent = segments.across & (segments.sizes >= 2 * min_points)
     if tried is not None:
         long_bent &= tried
+    # the lines are fitted only where a long segment may be cut: on most scans none is,
+    # and its lines may never be asked for
+    if not np.count_nonzero(long_bent):
+        return segments
+    long_bent &= segments.spread_across > STRAIGHT_SPREAD_M * STRAIGHT_SPREAD_M
     if not np.count_nonzero(long_bent):
         return segments
     bounds = segments.bounds
