@@ -109,9 +109,21 @@ def line_spreads(
     """The total-least-squares line of points whose covariance is ``(cxx, cxy, cyy)``, m^2:
     its direction from the x axis, rad, and the variances of the points along it and
     across it, m^2 (the covariance's two eigenvalues)."""
+    return line_direction(cxx, cxy, cyy), *line_variances(cxx, cxy, cyy)
+
+
+def line_direction(cxx: np.ndarray, cxy: np.ndarray, cyy: np.ndarray) -> np.ndarray:
+    """The direction of :func:`line_spreads`' line from the x axis, rad (apart: the corner
+    search needs it only for the best cut of each segment, and ``arctan2`` is dear)."""
+    return 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
+
+
+def line_variances(
+    cxx: np.ndarray, cxy: np.ndarray, cyy: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The variances of :func:`line_spreads`' points along its line and across it, m^2."""
     half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
-    direction = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
-    return direction, half_sum + root, np.maximum(half_sum - root, 0.0)
+    return half_sum + root, np.maximum(half_sum - root, 0.0)
 
 
 def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
