@@ -177,7 +177,7 @@ class LevelMemory:
         # the view (a dark wall echoes on some scans only): its clock runs on if it ran,
         # and a return settles the view only when there is one (in a tilted scan the
         # floor line moves with the pitch: where it went silent, it has moved on)
-        ahead *= in_front | (no_return & (view.ahead_s > 0.0) & level)
+        ahead *= in_front | (no_return & (view.ahead_s > 0.0)) if level else in_front
         settled = indices((ahead > params.max_event_s) & in_front)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0

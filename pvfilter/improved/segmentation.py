@@ -284,10 +284,10 @@ def break_distances(
         return cut
     missing = steps.take(gaps) - 1
     if no_echo is not None:  # and so did every other, or it is a gap
-        between = beams.take(gaps)[:, None] + np.arange(1, most + 1)  # (gaps, most)
-        np.minimum(between, len(no_echo) - 1, out=between)
-        echoless = no_echo.take(between) | (np.arange(most) >= missing[:, None])
-        missing *= np.logical_and.reduce(echoless, axis=1)
+        # echoless beams up to each beam: a count per gap, not a (gaps, most) gather
+        silent = np.cumsum(no_echo)
+        before = beams.take(gaps)
+        missing *= silent.take(before + missing) - silent.take(before) == missing
     per_missing = abs(increment) / math.cos(math.radians(BRIDGE_INCIDENCE_DEG))
     cut[gaps] += ranges.take(gaps) * (per_missing * missing)
     return cut
