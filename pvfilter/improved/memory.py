@@ -252,9 +252,10 @@ def _fill_single_holes(view: LevelView) -> None:
     if right[-1] == len(level):  # holes are ascending: only the last can be beam n - 1
         right[-1] = 0
     on_left, on_right = level.take(left), level.take(right)
-    take_left = ~np.isnan(on_left) & ~(on_right < on_left)
+    take_left = ~(np.isnan(on_left) | (on_right < on_left))
     source = np.where(take_left, left, right)
-    fill = indices(~np.isnan(level.take(source)))
+    value = level.take(source)
+    fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
         hole, source = hole.take(fill), source.take(fill)
     for values in (level, view.ages, view.ahead_s, view.farther_s):
