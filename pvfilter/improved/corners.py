@@ -159,7 +159,8 @@ def _corners(
     first_of_piece[:1] = True
     np.not_equal(of_piece[1:], of_piece[:-1], out=first_of_piece[1:])
     best = best_tries.compress(first_of_piece)
-    cxx, cxy, cyy = (c.take(np.concatenate((best, best + n))) for c in covariance)
+    before_and_after = np.concatenate((best, best + n))
+    cxx, cxy, cyy = (c.take(before_and_after) for c in covariance)
     direction = line_direction(cxx, cxy, cyy)  # before, then after each best cut
     turn = np.abs(folded(direction[: best.size] - direction[best.size :]))
     corner_found = (turn > math.radians(CORNER_TURN_DEG)) & (
