@@ -285,7 +285,7 @@ def break_distances(
     missing = steps.take(gaps) - 1
     if no_echo is not None:  # and so did every other, or it is a gap
         # echoless beams up to each beam: a count per gap, not a (gaps, most) gather
-        silent = np.cumsum(no_echo)
+        silent = np.add.accumulate(no_echo, dtype=np.intp)  # (np.cumsum: more Python layers)
         before = beams.take(gaps)
         missing *= silent.take(before + missing) - silent.take(before) == missing
     per_missing = abs(increment) / math.cos(math.radians(BRIDGE_INCIDENCE_DEG))
