@@ -28,9 +28,15 @@ import math
 
 import numpy as np
 
+from pvfilter.improved.beams import indices
 from pvfilter.improved.geometry import folded
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.segmentation import Segments, line_spreads, segments_at
+from pvfilter.improved.segmentation import (
+    Segments,
+    line_direction,
+    line_variances,
+    segments_at,
+)
 
 CORNER_TURN_DEG = 10.0  # deg: two lines whose directions differ by more than this meet
 # at a corner (the fitted directions of pieces of min_points points err by a few degrees)
@@ -58,13 +64,14 @@ def split_at_corners(
         tried: per segment, it may be cut (None: every one may).
     """
     min_points = params.min_points
-    long_bent = (
-        segments.across
-        & (segments.sizes >= 2 * min_points)
-        & (segments.spread_across > STRAIGHT_SPREAD_M * STRAIGHT_SPREAD_M)
-    )
+    long_bent = segments.across & (segments.sizes >= 2 * min_points)
     if tried is not None:
         long_bent &= tried
+    # the lines are fitted only where a long segment may be cut: on most scans none is,
+    # and its lines may never be asked for
+    if not np.count_nonzero(long_bent):
+        return segments
+    long_bent &= segments.spread_across > STRAIGHT_SPREAD_M * STRAIGHT_SPREAD_M
     if not np.count_nonzero(long_bent):
         return segments
     bounds = segments.bounds
@@ -102,12 +109,18 @@ def corner(points: np.ndarray, min_points: int) -> int | None:
 
 
 def _cumulative_moments(points: np.ndarray) -> np.ndarray:
-    """Row i: the moments ``(count, x, y, xx, xy, yy)`` summed over the first i points."""
+    """Column i: the moments ``(count, x, y, xx, xy, yy)`` summed over the first i points,
+    ``(6, n + 1)`` (each moment a contiguous row: the sums run along it, and the corner
+    search gathers whole columns of moments at once)."""
     x, y = points[:, 0], points[:, 1]
-    moments = np.empty((len(points) + 1, 6))
-    moments[0] = 0.0
-    each = np.column_stack((np.ones(len(points)), x, y, x * x, x * y, y * y))
-    np.cumsum(each, axis=0, out=moments[1:])
+    each = np.empty((6, len(points)))
+    each[0], each[1], each[2] = 1.0, x, y
+    np.multiply(x, x, out=each[3])
+    np.multiply(x, y, out=each[4])
+    np.multiply(y, y, out=each[5])
+    moments = np.empty((6, len(points) + 1))
+    moments[:, 0] = 0.0
+    np.cumsum(each, axis=1, out=moments[:, 1:])
     return moments
 
 
@@ -116,6 +129,10 @@ def _corners(
 ) -> np.ndarray:
     """Per piece ``[first, end)`` of the points, the index of its corner (the first point
     of the second line), or -1 where two lines do not explain it far better than one.
+
+    The lines before and after every cut, and each whole piece's line, are fitted in one
+    pass over one block of summed moments (the fit is a few dozen ufunc calls, each
+    dearer to set up than to run on these few hundred columns).
 
     Args:
         moments: the points' cumulative moments (:func:`_cumulative_moments`).
@@ -126,28 +143,39 @@ def _corners(
     piece = np.repeat(np.arange(firsts.size), tries)
     starts = np.cumsum(tries) - tries  # each piece's first try
     cut = firsts.take(piece) + min_points + (np.arange(piece.size) - starts.take(piece))
-    at_cut = moments.take(cut, axis=0)
-    before = (at_cut - moments.take(firsts.take(piece), axis=0)).T
-    after = (moments.take(ends.take(piece), axis=0) - at_cut).T
-    residual_before, direction_before = _line_residual(before)
-    residual_after, direction_after = _line_residual(after)
-    total = residual_before + residual_after
-    # each piece's best cut: the first of its least totals, as np.argmin takes
+    n = cut.size
+    # the moments of the points before each cut, after it, and of each whole piece
+    upper = np.concatenate((cut, ends.take(piece), ends))
+    lower = np.concatenate((firsts.take(piece), cut, firsts))
+    residual, covariance = _line_residual(moments.take(upper, axis=1) - moments.take(lower, axis=1))
+    total = residual[:n] + residual[n : 2 * n]
+    whole = residual[2 * n :]
+    # each piece's best cut: the first of its least totals, as np.argmin takes (the tries
+    # are in piece order, so a piece's first is where the piece changes)
     least = np.minimum.reduceat(total, starts)
-    best_tries = np.flatnonzero(total == least.take(piece))
-    best = best_tries[np.unique(piece.take(best_tries), return_index=True)[1]]
-    whole, _ = _line_residual((moments.take(ends, axis=0) - moments.take(firsts, axis=0)).T)
-    turn = np.abs(folded(direction_before.take(best) - direction_after.take(best)))
+    best_tries = indices(total == least.take(piece))
+    of_piece = piece.take(best_tries)
+    first_of_piece = np.empty(of_piece.size, dtype=bool)
+    first_of_piece[:1] = True
+    np.not_equal(of_piece[1:], of_piece[:-1], out=first_of_piece[1:])
+    best = best_tries.compress(first_of_piece)
+    before_and_after = np.concatenate((best, best + n))
+    cxx, cxy, cyy = (c.take(before_and_after) for c in covariance)
+    direction = line_direction(cxx, cxy, cyy)  # before, then after each best cut
+    turn = np.abs(folded(direction[: best.size] - direction[best.size :]))
     corner_found = (turn > math.radians(CORNER_TURN_DEG)) & (
         total.take(best) <= CORNER_FIT_GAIN * whole
     )
     return np.where(corner_found, cut.take(best), -1)
 
 
-def _line_residual(moments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _line_residual(
+    moments: np.ndarray,
+) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """The total-least-squares line of points from their summed moments ``(count, x, y,
-    xx, xy, yy)`` (along the first axis): its sum of squared distances, m^2, and its
-    direction, rad."""
+    xx, xy, yy)`` (along the first axis): its sum of squared distances, m^2, and the
+    points' covariance ``(cxx, cxy, cyy)``, m^2 (:func:`line_direction` of it: the line's
+    direction)."""
     count, sx, sy, sxx, sxy, syy = moments
     mean_x, mean_y = sx / count, sy / count
     cxx, cxy, cyy = (
@@ -155,8 +183,8 @@ def _line_residual(moments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         sxy / count - mean_x * mean_y,
         syy / count - mean_y * mean_y,
     )
-    direction, _, across = line_spreads(cxx, cxy, cyy)
-    return across * count, direction
+    _, across = line_variances(cxx, cxy, cyy)
+    return across * count, (cxx, cxy, cyy)
 
 
 def _cut(segments: Segments, cuts: np.ndarray) -> Segments:

@@ -75,6 +75,7 @@ class _Prepared:
     Attributes:
         scan: the scan.
         ranges: its ranges, NaN where invalid, m.
+        no_echo: per beam, it returned nothing within range (``+inf``).
         points: its points per beam, sensor frame, m, ``(n, 2)`` (NaN where invalid).
         segments: its segments.
         directions: each return's local line direction, rad (NaN: none).
@@ -87,6 +88,7 @@ class _Prepared:
 
     scan: Scan
     ranges: np.ndarray
+    no_echo: np.ndarray
     points: np.ndarray
     segments: Segments
     directions: np.ndarray
@@ -236,7 +238,17 @@ class ImprovedPitchVariationFilter:
         if np.count_nonzero(body):
             mid_points[body] = np.nan
         prepared = _Prepared(
-            scan, ranges, points, segments, directions, mid_points, velocity, dt, pose, attitude
+            scan,
+            ranges,
+            no_echo,
+            points,
+            segments,
+            directions,
+            mid_points,
+            velocity,
+            dt,
+            pose,
+            attitude,
         )
         return prepared, prior
 
@@ -336,7 +348,7 @@ class ImprovedPitchVariationFilter:
         hold = self._hold(detection)
         self._memory.update(
             prepared.ranges,
-            scan.ranges == np.inf,
+            prepared.no_echo,
             found.view,
             prepared.dt,
             self.params,

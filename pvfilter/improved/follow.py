@@ -143,6 +143,8 @@ class FloorFollower:
         latest, earliest = self.lines[-1], self.lines[0]
         reach = params.max_pitch_rate_rad_s * (detection.scan.stamp - latest.stamp)
         followed = scores.gates & (scores.new_counts > 0)
+        if not np.count_nonzero(followed):  # (most scans: their lines were never fitted)
+            return None
         followed &= np.sign(segments.centroids[:, 0]) == latest.side
         followed &= np.abs(scores.tilt_rad - latest.tilt_rad) <= reach
         # where the earliest line would lie now had it stayed put in the world: moved

@@ -118,10 +118,12 @@ class LevelMemory:
         )
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
-        order = nearest_first(beams, ranges, layout)  # the moved points, by their beams
+        # the moved points, by their beams; each beam's nearest range is its view already
+        order, nearest = nearest_by_beam(beams, ranges, layout)
         target = beams.take(order)
-        view = LevelView.empty(layout.count)
-        view.ranges[target] = ranges.take(order)
+        ages = np.empty(layout.count)
+        ages.fill(np.inf)  # (as LevelView.empty: np.full costs a Python-level call)
+        view = LevelView(nearest, ages, np.zeros(layout.count), np.zeros(layout.count))
         for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
             mine[target] = theirs.take(order)
         view.farther_s[target] = state.farther_s.take(order)
@@ -177,7 +179,7 @@ class LevelMemory:
         # the view (a dark wall echoes on some scans only): its clock runs on if it ran,
         # and a return settles the view only when there is one (in a tilted scan the
         # floor line moves with the pitch: where it went silent, it has moved on)
-        ahead *= in_front | (no_return & (view.ahead_s > 0.0) & level)
+        ahead *= in_front | (no_return & (view.ahead_s > 0.0)) if level else in_front
         settled = indices((ahead > params.max_event_s) & in_front)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0
@@ -215,29 +217,38 @@ class LevelMemory:
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
     """The moved points to write into their beams, in an order in which each beam's
-    nearest point comes last (and wins it); points outside the scan's angles left out.
+    nearest point comes last (and wins it); points outside the scan's angles left out
+    (``ranges``: the points' ranges, m, all finite).
 
     Each beam's nearest point is found with one unbuffered minimum per beam, about a
     third of the cost of sorting all points by range; then each beam has one point to
     write. Where two points tie for a beam's nearest, the sort by range decides, as it
     always did (its order among equal ranges picks the one written last).
     """
+    return nearest_by_beam(beams, ranges, layout)[0]
+
+
+def nearest_by_beam(
+    beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`nearest_first`, and per beam the range of its nearest point (NaN: no point
+    lands on it): the very ranges that order writes (ties have equal ranges)."""
     nearest = np.empty(layout.count)
-    nearest.fill(np.inf)  # no moved point is that far: every range is finite
+    nearest.fill(np.nan)  # no point yet: fmin takes any range over NaN
     if layout.ring:  # on a ring every point lands on a beam
-        np.minimum.at(nearest, beams, ranges)
+        np.fmin.at(nearest, beams, ranges)
         order = indices(ranges == nearest.take(beams))
     else:
         inside = indices(beams >= 0)
         inside_beams = beams.take(inside)
-        np.minimum.at(nearest, inside_beams, ranges.take(inside))
+        np.fmin.at(nearest, inside_beams, ranges.take(inside))
         order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
-    if order.size == np.count_nonzero(nearest < np.inf):  # one nearest point per beam
-        return order
+    if order.size == np.count_nonzero(nearest == nearest):  # one nearest point per beam
+        return order, nearest
     order = np.argsort(-ranges)
     if not layout.ring:
         order = order[beams[order] >= 0]
-    return order
+    return order, nearest
 
 
 def _fill_single_holes(view: LevelView) -> None:
@@ -252,9 +263,10 @@ def _fill_single_holes(view: LevelView) -> None:
     if right[-1] == len(level):  # holes are ascending: only the last can be beam n - 1
         right[-1] = 0
     on_left, on_right = level.take(left), level.take(right)
-    take_left = ~np.isnan(on_left) & ~(on_right < on_left)
+    take_left = ~(np.isnan(on_left) | (on_right < on_left))
     source = np.where(take_left, left, right)
-    fill = indices(~np.isnan(level.take(source)))
+    value = level.take(source)
+    fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
         hole, source = hole.take(fill), source.take(fill)
     for values in (level, view.ages, view.ahead_s, view.farther_s):

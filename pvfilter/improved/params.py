@@ -15,6 +15,7 @@ robot that the user should set; ``twsb tune`` fits the others to a robot from ge
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -215,7 +216,7 @@ class ImprovedParams:
         arm = self.lidar_height_m - self.axle_height_m
         return self.axle_height_m + arm * np.cos(tilt_rad)
 
-    @property
+    @functools.cached_property  # (asked for every scan; the parameters never change)
     def min_line_distance_m(self) -> float:
         """Nearest a floor line can be to the scan plane's point over the axle, m (at the
         largest tilt)."""

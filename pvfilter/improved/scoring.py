@@ -239,7 +239,9 @@ def score_segments(
         # lines show how steep the plane got, and a ceiling can be that much nearer
         strong_down = gates & (side == down) & (new_counts >= params.down_side_min_new)
         steepest = (
-            max(down_tilt, float(tilt[strong_down].max())) if strong_down.any() else down_tilt
+            max(down_tilt, float(tilt[strong_down].max()))
+            if np.count_nonzero(strong_down)  # (any() without its Python layers)
+            else down_tilt
         )
         too_near = distances < ceiling_min_distance(steepest, params)
         score[(side == -down) & too_near] *= params.up_side_weight

@@ -109,9 +109,21 @@ def line_spreads(
     """The total-least-squares line of points whose covariance is ``(cxx, cxy, cyy)``, m^2:
     its direction from the x axis, rad, and the variances of the points along it and
     across it, m^2 (the covariance's two eigenvalues)."""
+    return line_direction(cxx, cxy, cyy), *line_variances(cxx, cxy, cyy)
+
+
+def line_direction(cxx: np.ndarray, cxy: np.ndarray, cyy: np.ndarray) -> np.ndarray:
+    """The direction of :func:`line_spreads`' line from the x axis, rad (apart: the corner
+    search needs it only for the best cut of each segment, and ``arctan2`` is dear)."""
+    return 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
+
+
+def line_variances(
+    cxx: np.ndarray, cxy: np.ndarray, cyy: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The variances of :func:`line_spreads`' points along its line and across it, m^2."""
     half_sum, root = 0.5 * (cxx + cyy), np.hypot(0.5 * (cxx - cyy), cxy)
-    direction = 0.5 * np.arctan2(2.0 * cxy, cxx - cyy)
-    return direction, half_sum + root, np.maximum(half_sum - root, 0.0)
+    return half_sum + root, np.maximum(half_sum - root, 0.0)
 
 
 def chord_half_widths(ranges: np.ndarray, increment: float, chord_m: float) -> np.ndarray:
@@ -272,10 +284,10 @@ def break_distances(
         return cut
     missing = steps.take(gaps) - 1
     if no_echo is not None:  # and so did every other, or it is a gap
-        between = beams.take(gaps)[:, None] + np.arange(1, most + 1)  # (gaps, most)
-        np.minimum(between, len(no_echo) - 1, out=between)
-        echoless = no_echo.take(between) | (np.arange(most) >= missing[:, None])
-        missing *= np.logical_and.reduce(echoless, axis=1)
+        # echoless beams up to each beam: a count per gap, not a (gaps, most) gather
+        silent = np.add.accumulate(no_echo, dtype=np.intp)  # (np.cumsum: more Python layers)
+        before = beams.take(gaps)
+        missing *= silent.take(before + missing) - silent.take(before) == missing
     per_missing = abs(increment) / math.cos(math.radians(BRIDGE_INCIDENCE_DEG))
     cut[gaps] += ranges.take(gaps) * (per_missing * missing)
     return cut
@@ -339,18 +351,17 @@ def segments_at(
         seam_joined: see :class:`Segments`.
     """
     m = len(points)
-    labels = np.zeros(m, dtype=np.intp)
-    labels[cuts] = 1
-    np.add.accumulate(labels, out=labels)  # labels.cumsum(), in place
     bounds = bounds_of(cuts, m)
     starts = bounds[:-1]
+    sizes = bounds[1:] - starts
+    labels = np.arange(sizes.size).repeat(sizes)  # (cheaper than a cumulative sum of cuts)
     segments = Segments(
         beams=beams,
         points=points,
         labels=labels,
         directions=directions,
         across=across.take(starts),
-        sizes=bounds[1:] - starts,
+        sizes=sizes,
         seam_joined=seam_joined,
     )
     segments.memo["ranges"] = ranges  # worked out already: Segments.ranges
