@@ -7,11 +7,11 @@ level view drifts, and when the robot levels the real wall in front looks new. S
 - each scan is **unstretched** before it is matched against the previous one (stored
   unstretched by its own tilt): its x axis is scaled by ``cos(tilt)``, the tilt being
   the IMU's when given, else the previous scan's (the pitch changes little in a scan
-  time; the previous scan's tilt is that of its floor line, or 0 where it shows none,
-  a scan that coasted too: matched at the tilt before it, a scan with no floor line in
-  it shows the robot levelled, and the tilt before would unstretch the next, level scan
-  as if tilted, its walls ahead and behind nearer by ``1 - cos(tilt)``, which the match
-  reads as travel);
+  time). The previous scan's tilt is that of its floor line, 0 where it showed none,
+  and so for a scan that coasted too, although it was matched at the tilt before it: a
+  coasted scan without a floor line shows the robot levelled, and the next, level scan
+  unstretched as if tilted would have its walls ahead and behind nearer by
+  ``1 - cos(tilt)``, which the match reads as travel;
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
   that grows with the step: the wheels slip on hard stops), else the last step at
   constant velocity; where that finds no pairs of points (a velocity from a bad match in
