@@ -278,13 +278,12 @@ def break_distances(
     most = round(math.radians(BRIDGE_MAX_DEG) / abs(increment))
     steps = beams[1:] - beams[:-1]
     gaps = indices((steps > 1) & (steps <= most + 1))  # (few: most beams return)
-    if no_echo is not None and gaps.size:  # the first beam between returned nothing
-        gaps = gaps.compress(no_echo.take(beams.take(gaps) + 1))
     if gaps.size == 0:
         return cut
     missing = steps.take(gaps) - 1
-    if no_echo is not None:  # and so did every other, or it is a gap
-        # echoless beams up to each beam: a count per gap, not a (gaps, most) gather
+    if no_echo is not None:  # every beam between returned nothing, or it is a gap
+        # echoless beams up to each beam: a count per gap, not a (gaps, most) gather; a
+        # gap with a beam that returned something adds nothing (0 missing beams)
         silent = np.add.accumulate(no_echo, dtype=np.intp)  # (np.cumsum: more Python layers)
         before = beams.take(gaps)
         missing *= silent.take(before + missing) - silent.take(before) == missing
