@@ -75,8 +75,9 @@ def split_at_corners(
     if not np.count_nonzero(long_bent):
         return segments
     bounds = segments.bounds
-    moments = _cumulative_moments(segments.points)
     firsts, ends = bounds[:-1][long_bent], bounds[1:][long_bent]
+    # the sums run up to the last piece's end: no piece asks for the points after it
+    moments = _cumulative_moments(segments.points[: ends[-1]])
     cuts = []
     for _ in range(CUT_ROUNDS):
         long_enough = ends - firsts >= 2 * min_points
