@@ -68,6 +68,15 @@ def blind_margin_m(coasted_s: float) -> float:
     return MAX_SPEED_MPS * coasted_s
 
 
+def _not_back(
+    new: np.ndarray, view: LevelView, ranges: np.ndarray, params: ImprovedParams
+) -> np.ndarray:
+    """``new`` without the returns where a surface the view gave up for the space seen
+    beyond it stands again: that surface is back, not something new in free space."""
+    back = view.surfaces_back(ranges, params)
+    return new if back is None else new & ~back
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class _Prepared:
     """One scan as the stages take it.
@@ -356,8 +365,19 @@ class ImprovedPitchVariationFilter:
             hold,
             prepared.velocity,
             scan.time_increment,
+            self._across(prepared.segments, len(scan)),
         )
         self._recent.add(scan.stamp, found.level_ranges)
+
+    def _across(self, segments: Segments, count: int) -> np.ndarray | None:
+        """Per beam: it lies on a segment across the direction of travel with at least
+        ``min_points`` points, where a floor line can lie (None: on none)."""
+        lines = segments.across & (segments.sizes >= self._line_params.min_points)
+        if not np.count_nonzero(lines):
+            return None
+        beams = np.zeros(count, dtype=bool)
+        beams[segments.beams] = lines.take(segments.labels)
+        return beams
 
     def _hold(self, detection: LineDetection) -> np.ndarray | None:
         """Per beam: the level view does not come closer there (None: nowhere): behind
@@ -401,7 +421,7 @@ class ImprovedPitchVariationFilter:
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
             margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
             new, through = free_space_evidence(gaps, ranges, margin_m, params.free_margin_rel)
-            return new, through, view, None
+            return _not_back(new, view, ranges, params), through, view, None
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
@@ -422,6 +442,7 @@ class ImprovedPitchVariationFilter:
                 new, through = free_space_evidence(
                     gaps, ranges, params.free_margin_m, params.free_margin_rel
                 )
+        new = _not_back(new, view, ranges, params)
         # without an IMU only lines with new returns are scored, and only scored lines are
         # tested: a scan with no new return (most) has no use for the test then (with an
         # IMU every gated line is)

@@ -19,8 +19,19 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   once it has been seen for ``confirm_free_s``;
 - behind a segment that may be a floor line (``hold_behind_lines``: a candidate line,
   or one that continues a recent strong line, :mod:`pvfilter.improved.follow`) the view
-  does not come closer at all; elsewhere a return pulls it closer by at most
-  ``memory_shrink_mps`` times the time step (a person walking in, an ego-motion error);
+  does not come closer at all. Behind any other segment across the direction of travel,
+  where a floor line can lie, it comes closer by at most ``line_shrink_mps`` times the
+  time step plus the sensor's travel in it: a floor line that a scan or two fail to
+  detect (they count as level; a held tilt's line whose pitch drifted, say) stays in
+  front of the view, new, and is found again; and the ego-motion's error along x, which
+  shows on exactly those segments, is at most the travel. Elsewhere a return pulls it
+  closer by at most ``memory_shrink_mps`` times the time step (a person walking in, an
+  ego-motion error);
+- a surface the view gave up for space seen free beyond it, that a return finds where it
+  stood within ``memory_timeout_s``, is back (:meth:`LevelView.surfaces_back`): it is not
+  new, and a level scan puts it back into the view at once. A low top or a cabinet that
+  the plane passes over as the robot rocks on a rough floor comes and goes; it is
+  structure, not a line sweeping in;
 - beams with no return within range (``+inf``) remember free space up to ``range_max``,
   once confirmed as above; but a beam without an echo next to a beam that returns on the
   view or in front of it frees nothing: a dark surface, or one met at grazing incidence,
@@ -41,6 +52,7 @@ precision-recall sweep, follows from the scans alone.
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -59,20 +71,42 @@ class LevelView:
         ages: s since a level return last confirmed the beam.
         ahead_s: s for which the beam's returns have been in front of the view.
         farther_s: s for which the beam's level returns have been beyond the view.
+        dropped_m: how far in front of the view stood the surface it gave up when space
+            seen free beyond it joined, m (NaN: none).
+        dropped_s: s since it gave that surface up.
     """
 
     ranges: np.ndarray
     ages: np.ndarray
     ahead_s: np.ndarray
     farther_s: np.ndarray
+    dropped_m: np.ndarray
+    dropped_s: np.ndarray
+
+    def surfaces_back(self, ranges: np.ndarray, params: ImprovedParams) -> np.ndarray | None:
+        """Per beam: the return lies where a surface the view gave up stood, within the
+        free-space margin, given up at most ``memory_timeout_s`` ago: that surface is back
+        (None: the view gave none up that recently)."""
+        recent = self.dropped_s <= params.memory_timeout_s
+        if not np.count_nonzero(recent):  # (most scans)
+            return None
+        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
+        # NaN (nothing given up, an invalid return) compares False
+        return recent & (np.abs(self.ranges - ranges - self.dropped_m) <= margin)
 
     @classmethod
     def empty(cls, n: int) -> LevelView:
         """A view that knows nothing, of ``n`` beams."""
-        ranges, ages = np.empty(n), np.empty(n)  # np.full costs a Python-level call each
-        ranges.fill(np.nan)
-        ages.fill(np.inf)
-        return cls(ranges, ages, np.zeros(n), np.zeros(n))
+        return cls.seen(np.full(n, np.nan), np.full(n, np.inf))
+
+    @classmethod
+    def seen(cls, ranges: np.ndarray, ages: np.ndarray) -> LevelView:
+        """A view of ``ranges`` with ``ages``, its clocks at 0, no surface given up."""
+        n = len(ranges)
+        dropped_m, dropped_s = np.empty(n), np.empty(n)  # np.full: a Python-level call each
+        dropped_m.fill(np.nan)
+        dropped_s.fill(np.inf)
+        return cls(ranges, ages, np.zeros(n), np.zeros(n), dropped_m, dropped_s)
 
 
 class LevelMemory:
@@ -122,11 +156,10 @@ class LevelMemory:
         order, nearest = nearest_by_beam(beams, ranges, layout)
         target = beams.take(order)
         ages = np.empty(layout.count)
-        ages.fill(np.inf)  # (as LevelView.empty: np.full costs a Python-level call)
-        view = LevelView(nearest, ages, np.zeros(layout.count), np.zeros(layout.count))
-        for mine, theirs in ((view.ages, state.ages), (view.ahead_s, state.ahead_s)):
+        ages.fill(np.inf)  # (np.full costs a Python-level call)
+        view = LevelView.seen(nearest, ages)
+        for mine, theirs in zip(_carried(view), _carried(state), strict=True):
             mine[target] = theirs.take(order)
-        view.farther_s[target] = state.farther_s.take(order)
         _fill_single_holes(view)
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -143,6 +176,7 @@ class LevelMemory:
         hold: np.ndarray | None = None,
         velocity: Motion | None = None,
         time_increment: float = 0.0,
+        across: np.ndarray | None = None,
     ) -> None:
         """Take a scan into the memory.
 
@@ -156,6 +190,8 @@ class LevelMemory:
             hold: bool per beam: the view does not come closer there (None: nowhere).
             velocity: the sensor's motion per second during the scan (None: standing).
             time_increment: the scan's time between beams, s.
+            across: bool per beam: it lies on a segment across the direction of travel,
+                long enough to be a floor line (None: none does).
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
@@ -163,13 +199,22 @@ class LevelMemory:
         if view is None:  # the first scan of a sequence: all it has
             level_ranges = np.where(no_return, np.inf, ranges)
             seen = np.where(valid | no_return, 0.0, np.inf)
-            self.state = LevelView(level_ranges, seen, np.zeros(len(ranges)), np.zeros(len(ranges)))
+            self.state = LevelView.seen(level_ranges, seen)
             return
         current = view.ranges.copy()
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
+        if across is not None and np.count_nonzero(across):
+            travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
+            creep = min(shrink, params.line_shrink_mps * dt + travel_m)
+            np.copyto(floor, current - creep, where=across)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
+        dropped_m, dropped_s = view.dropped_m.copy(), view.dropped_s + dt
+        back = view.surfaces_back(ranges, params) if level else None
+        if back is not None and np.count_nonzero(back):  # the view takes them back at once
+            floor[back] = -np.inf
+            dropped_m[back] = np.nan
         np.fmax(floor, -np.inf, out=floor)  # NaN (unknown) becomes -inf
         in_front = ranges < floor  # NaN (invalid) compares False
         # in front of the view this long: the clocks are finite and >= 0 (sums of time
@@ -186,7 +231,7 @@ class LevelMemory:
         if not level:  # a tilted plane: the view only moves, and its clock stands still
             if settled.size:
                 current[settled] = ranges.take(settled)
-            self.state = LevelView(current, view.ages, ahead, view.farther_s)
+            self.state = LevelView(current, view.ages, ahead, view.farther_s, dropped_m, dropped_s)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = ranges > current + margin
@@ -203,6 +248,10 @@ class LevelMemory:
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
+        gave_up = indices(take & valid & (current < np.inf))  # NaN compares False
+        if gave_up.size:  # the surface the view held there, remembered for a while
+            dropped_m[gave_up] = ranges.take(gave_up) - current.take(gave_up)
+            dropped_s[gave_up] = 0.0
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
         np.copyto(current, np.fmax(ranges, floor), where=valid & ~beyond)
         np.copyto(current, ranges, where=valid & take)
@@ -212,7 +261,7 @@ class LevelMemory:
         ages = view.ages + dt
         ages[valid | no_return] = 0.0
         farther[take] = 0.0
-        self.state = LevelView(current, ages, ahead, farther)
+        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -269,5 +318,10 @@ def _fill_single_holes(view: LevelView) -> None:
     fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
         hole, source = hole.take(fill), source.take(fill)
-    for values in (level, view.ages, view.ahead_s, view.farther_s):
+    for values in (level, *_carried(view)):
         values[hole] = values.take(source)
+
+
+def _carried(view: LevelView) -> tuple[np.ndarray, ...]:
+    """The per-beam values a beam's view carries along besides its range."""
+    return view.ages, view.ahead_s, view.farther_s, view.dropped_m, view.dropped_s

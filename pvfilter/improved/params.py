@@ -59,6 +59,11 @@ class ImprovedParams:
         memory_shrink_mps: how fast the remembered level view may come closer, m/s
             (moving things, the motion estimate's error). A floor line that sweeps in
             faster than this is new.
+        line_shrink_mps: how fast it may come closer behind a segment across the
+            direction of travel, where a floor line can lie, m/s, on top of the sensor's
+            travel in the step (the motion estimate's error along x shows on exactly those
+            segments, and is at most the travel): a floor line that a scan or two fail to
+            detect stays new, and is found again.
         confirm_free_s: a level return farther than the view (space newly seen free)
             joins the view only after it has been seen for this long, s, and never from a
             tilted scan: a tilted plane that passes over furniture must not teach the view
@@ -126,6 +131,7 @@ class ImprovedParams:
     free_margin_m: float = 0.08  # m
     free_margin_rel: float = 0.015  # 1
     memory_shrink_mps: float = 3.0  # m/s
+    line_shrink_mps: float = 0.2  # m/s
     confirm_free_s: float = 0.25  # s
     max_event_s: float = 2.0  # s
     memory_timeout_s: float = 1.5  # s
@@ -166,7 +172,7 @@ class ImprovedParams:
         )
         check_number("free_margin_m", self.free_margin_m, lower=0.0, unit="m", closed=True)
         check_number("free_margin_rel", self.free_margin_rel, lower=0.0, upper=1.0, closed=True)
-        for name in ("memory_shrink_mps", "confirm_free_s"):
+        for name in ("memory_shrink_mps", "line_shrink_mps", "confirm_free_s"):
             check_number(name, getattr(self, name), lower=0.0, closed=True, infinite=True)
         for name in ("max_event_s", "memory_timeout_s", "max_gap_s"):
             check_number(name, getattr(self, name), lower=0.0, unit="s", infinite=True)

@@ -48,7 +48,11 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
     ),
     "previous_scan_only": (
         "level-view memory: the view follows every return at once, except where it holds",
-        lambda p: _set(p, memory_shrink_mps=float("inf")),
+        lambda p: _set(p, memory_shrink_mps=float("inf"), line_shrink_mps=float("inf")),
+    ),
+    "no_line_rate": (
+        "the slower approach of the view behind segments across the travel (as elsewhere)",
+        lambda p: _set(p, line_shrink_mps=float("inf")),
     ),
     "no_hold": (
         "holding the view behind possible floor lines (it shrinks there too)",

@@ -56,6 +56,7 @@ SPACE: tuple[Dimension, ...] = (
     Dimension("free_margin_m", 0.05, 0.4),
     Dimension("free_margin_rel", 0.0, 0.08),
     Dimension("memory_shrink_mps", 0.1, 3.0, log=True),
+    Dimension("line_shrink_mps", 0.05, 3.0, log=True),
     Dimension("max_event_s", 0.5, 5.0, log=True),
     Dimension("max_roll_deg", 1.0, 10.0, log=True),
     Dimension("line_angle_deg", 15.0, 50.0),

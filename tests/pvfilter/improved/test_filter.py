@@ -488,6 +488,20 @@ def test_the_robots_own_frame_in_view_does_not_pin_the_scan_match_to_standing(bo
     assert sum(steps) == pytest.approx(-0.5, abs=0.1)
 
 
+def test_a_low_top_seen_again_where_it_stood_is_not_new():
+    # standing on a rough floor, the plane passes over a low top for 0.4 s: the view
+    # takes the wall behind it (after confirm_free_s); when the top is hit again, it is
+    # that surface back, not something new in front of the wall
+    top = np.array([[[1.0, -0.4], [1.0, 0.4]]])
+    pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
+    for k, seen in enumerate([True] * 10 + [False] * 4 + [True] * 4):
+        scan, _ = room_scan(stamp=0.1 * k, seed=k, extra=top if seen else None)
+        result = pvf.process(scan)
+    on_top = np.abs(scan.angles()) < math.radians(20.0)
+    assert not result.lines.new_points[on_top].any()
+    assert not result.scores[on_top].any()
+
+
 def test_the_scan_after_a_coasted_level_scan_is_matched_level():
     # a pitch event of two scans at 20 deg while driving at 0.5 m/s; the robot levels,
     # and the first level scan's walls return next to nothing: too little to match, it

@@ -30,9 +30,12 @@ def view_of(memory, scan, motion=STILL, params=PARAMS):
     return memory.view(BeamLayout.of(scan), 12.0, motion, STILL, 0.0, params)
 
 
-def step(memory, scan, dt=0.1, params=PARAMS, level=True, hold=None):
+def step(memory, scan, dt=0.1, params=PARAMS, level=True, hold=None, across=None, velocity=None):
     view = view_of(memory, scan, params=params)
-    memory.update(ranges_of(scan), np.isposinf(scan.ranges), view, dt, params, level, hold)
+    memory.update(
+        ranges_of(scan), np.isposinf(scan.ranges), view, dt, params, level, hold, velocity,
+        across=across,
+    )  # fmt: skip
     return view
 
 
@@ -81,6 +84,60 @@ def test_the_view_holds_behind_a_possible_floor_line():
     memory = remembered(level)
     view = step(memory, pitched, hold=on_floor)
     np.testing.assert_array_equal(memory.state.ranges[on_floor], view.ranges[on_floor])
+
+
+def test_behind_a_segment_across_the_travel_the_view_comes_closer_at_the_line_rate():
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    memory = remembered(level)
+    view = step(memory, pitched, across=on_floor)  # a floor line the scan did not detect
+    deep = on_floor & (level.ranges - pitched.ranges > 0.2)  # in front by more than a step
+    assert deep.sum() > 100
+    shrunk = view.ranges[deep] - memory.state.ranges[deep]
+    np.testing.assert_allclose(shrunk, PARAMS.line_shrink_mps * 0.1, atol=1e-9)
+
+
+def test_the_line_rate_allows_for_the_sensor_travel():
+    # the ego-motion's error along x shows on exactly these segments: up to the travel
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    memory = remembered(level)
+    view = step(memory, pitched, across=on_floor, velocity=Motion(tx_m=0.6, ty_m=-0.8))
+    deep = on_floor & (level.ranges - pitched.ranges > 0.2)
+    assert deep.sum() > 100
+    shrunk = view.ranges[deep] - memory.state.ranges[deep]
+    np.testing.assert_allclose(shrunk, PARAMS.line_shrink_mps * 0.1 + 0.1, atol=1e-9)
+
+
+BOX = np.array([[[1.0, -0.4], [1.0, 0.4]]])  # a low top the rocking plane passes over
+
+
+def gave_up_the_box(gone_for):
+    """A memory that saw the box, then the wall behind it for ``gone_for`` scans."""
+    with_box, _ = room_scan(extra=BOX, noise_m=0.0)
+    without, _ = room_scan(noise_m=0.0)
+    memory = remembered(with_box)
+    for _ in range(gone_for):
+        step(memory, without)
+    return memory, with_box, np.abs(without.angles()) < math.radians(5.0)
+
+
+def test_a_surface_the_view_gave_up_takes_its_place_back_at_once():
+    memory, with_box, ahead = gave_up_the_box(3)  # confirm_free_s = 0.25 s: 3 scans
+    assert (memory.state.ranges[ahead] > 3.9).all()  # the view took the wall behind
+    view = step(memory, with_box)
+    assert view.surfaces_back(ranges_of(with_box), PARAMS)[ahead].all()
+    np.testing.assert_allclose(
+        memory.state.ranges[ahead], 1.0 / np.cos(with_box.angles()[ahead]), atol=1e-6
+    )
+
+
+def test_a_surface_given_up_long_ago_comes_back_at_the_shrink_rate():
+    memory, with_box, ahead = gave_up_the_box(20)  # 2 s > memory_timeout_s
+    view = step(memory, with_box)
+    assert view.surfaces_back(ranges_of(with_box), PARAMS) is None
+    shrunk = view.ranges[ahead] - memory.state.ranges[ahead]
+    np.testing.assert_allclose(shrunk, PARAMS.memory_shrink_mps * 0.1, atol=1e-9)
 
 
 def test_space_seen_free_joins_the_view_only_once_confirmed():
