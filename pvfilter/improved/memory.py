@@ -204,9 +204,9 @@ class LevelMemory:
         current = view.ranges.copy()
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
-        if across is not None and np.count_nonzero(across):
-            travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
-            creep = min(shrink, params.line_shrink_mps * dt + travel_m)
+        travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
+        creep = params.line_shrink_mps * dt + travel_m
+        if creep < shrink and across is not None and np.count_nonzero(across):
             np.copyto(floor, current - creep, where=across)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)

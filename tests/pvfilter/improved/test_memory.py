@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 
@@ -107,6 +108,20 @@ def test_the_line_rate_allows_for_the_sensor_travel():
     assert deep.sum() > 100
     shrunk = view.ranges[deep] - memory.state.ranges[deep]
     np.testing.assert_allclose(shrunk, PARAMS.line_shrink_mps * 0.1 + 0.1, atol=1e-9)
+
+
+def test_with_neither_rate_limited_the_view_follows_every_return_at_once():
+    params = dataclasses.replace(PARAMS, memory_shrink_mps=math.inf, line_shrink_mps=math.inf)
+    level, _ = room_scan(noise_m=0.0)
+    pitched, on_floor = room_scan(pitch_rad=math.radians(6.0), noise_m=0.0)
+    open_door = np.abs(level.angles() - math.radians(90.0)) < math.radians(5.0)
+    level = dataclasses.replace(level, ranges=np.where(open_door, np.inf, level.ranges))
+    memory = remembered(level, params)  # free space (inf) through the door
+    on_floor |= open_door  # a segment across the travel there too
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no inf - inf on the way
+        step(memory, pitched, params=params, across=on_floor)
+    np.testing.assert_allclose(memory.state.ranges[on_floor], pitched.ranges[on_floor])
 
 
 BOX = np.array([[[1.0, -0.4], [1.0, 0.4]]])  # a low top the rocking plane passes over
