@@ -68,15 +68,6 @@ def blind_margin_m(coasted_s: float) -> float:
     return MAX_SPEED_MPS * coasted_s
 
 
-def _not_back(
-    new: np.ndarray, view: LevelView, ranges: np.ndarray, params: ImprovedParams
-) -> np.ndarray:
-    """``new`` without the returns where a surface the view gave up for the space seen
-    beyond it stands again: that surface is back, not something new in free space."""
-    back = view.surfaces_back(ranges, params)
-    return new if back is None else new & ~back
-
-
 @dataclasses.dataclass(frozen=True, eq=False)
 class _Prepared:
     """One scan as the stages take it.
@@ -136,6 +127,7 @@ class _Found(NamedTuple):
     new: np.ndarray  # bool per beam: in front of the level view
     view: LevelView | None  # the level view in this scan's frame
     level_ranges: np.ndarray  # the scan's ranges, mid-scan and unstretched, m
+    back: np.ndarray | None  # bool per beam: a surface the view gave up is back (None: none)
 
 
 class ImprovedPitchVariationFilter:
@@ -278,7 +270,7 @@ class ImprovedPitchVariationFilter:
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
         unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
-        new, through, view, static = self._evidence(
+        new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
             level_ranges,
@@ -307,7 +299,7 @@ class ImprovedPitchVariationFilter:
             outcome.coast,
             held,
         )
-        return _Found(detection, new, view, level_ranges)
+        return _Found(detection, new, view, level_ranges, back)
 
     def _match(
         self, prepared: _Prepared, prior: tuple[Motion, tuple[float, float]], fresh: bool
@@ -366,6 +358,7 @@ class ImprovedPitchVariationFilter:
             prepared.velocity,
             scan.time_increment,
             self._across(prepared.segments, len(scan)),
+            found.back,
         )
         self._recent.add(scan.stamp, found.level_ranges)
 
@@ -400,19 +393,23 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
         blind: bool,
         unseen_travel: bool,
-    ) -> tuple[np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None]:
+    ) -> tuple[
+        np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None, np.ndarray | None
+    ]:
         """New returns (in front of the level view moved into this scan's frame), returns
         seen through it (None where no return is new: no share of new returns is worked
-        out then), the view itself, and the world-static test against the scans of the
-        last ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or,
-        without an IMU, no new return).
+        out then), the view itself, the world-static test against the scans of the last
+        ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or, without an
+        IMU, no new return), and where a surface the view gave up is back
+        (:meth:`~pvfilter.improved.memory.LevelView.surfaces_back`; None: nowhere). A
+        surface back is not new: it stands where the view had it, not in free space.
 
         A ``blind`` scan (coasting on the constant-velocity guess) is compared with the
         view within the guess's doubt, :func:`blind_margin_m`: the view is neither
         re-anchored nor asked whether the returns stayed put in the world."""
         params, layout = self.params, self._layout
         if fresh:
-            return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None
+            return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None, None
         view = self._memory.view(
             layout, scan.range_max, step, velocity, scan.time_increment, params
         )
@@ -421,7 +418,8 @@ class ImprovedPitchVariationFilter:
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
             margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
             new, through = free_space_evidence(gaps, ranges, margin_m, params.free_margin_rel)
-            return _not_back(new, view, ranges, params), through, view, None
+            back = view.surfaces_back(ranges, params)
+            return new if back is None else new & ~back, through, view, None, back
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
@@ -442,7 +440,9 @@ class ImprovedPitchVariationFilter:
                 new, through = free_space_evidence(
                     gaps, ranges, params.free_margin_m, params.free_margin_rel
                 )
-        new = _not_back(new, view, ranges, params)
+        back = view.surfaces_back(ranges, params)
+        if back is not None:
+            new &= ~back
         # without an IMU only lines with new returns are scored, and only scored lines are
         # tested: a scan with no new return (most) has no use for the test then (with an
         # IMU every gated line is)
@@ -454,7 +454,7 @@ class ImprovedPitchVariationFilter:
             static = WorldStatic(
                 level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
             )
-        return new, through, view, static
+        return new, through, view, static, back
 
     def _reanchor(
         self,

@@ -177,6 +177,7 @@ class LevelMemory:
         velocity: Motion | None = None,
         time_increment: float = 0.0,
         across: np.ndarray | None = None,
+        back: np.ndarray | None = None,
     ) -> None:
         """Take a scan into the memory.
 
@@ -192,6 +193,8 @@ class LevelMemory:
             time_increment: the scan's time between beams, s.
             across: bool per beam: it lies on a segment across the direction of travel,
                 long enough to be a floor line (None: none does).
+            back: bool per beam: a surface the view gave up is back there, as
+                :meth:`LevelView.surfaces_back` finds for this scan (None: nowhere).
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
@@ -211,8 +214,7 @@ class LevelMemory:
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
         dropped_m, dropped_s = view.dropped_m.copy(), view.dropped_s + dt
-        back = view.surfaces_back(ranges, params) if level else None
-        if back is not None and np.count_nonzero(back):  # the view takes them back at once
+        if level and back is not None and np.count_nonzero(back):  # taken back at once
             floor[back] = -np.inf
             dropped_m[back] = np.nan
         np.fmax(floor, -np.inf, out=floor)  # NaN (unknown) becomes -inf

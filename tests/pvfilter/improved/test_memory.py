@@ -33,9 +33,10 @@ def view_of(memory, scan, motion=STILL, params=PARAMS):
 
 def step(memory, scan, dt=0.1, params=PARAMS, level=True, hold=None, across=None, velocity=None):
     view = view_of(memory, scan, params=params)
+    back = view.surfaces_back(ranges_of(scan), params)  # as the filter finds it
     memory.update(
         ranges_of(scan), np.isposinf(scan.ranges), view, dt, params, level, hold, velocity,
-        across=across,
+        across=across, back=back,
     )  # fmt: skip
     return view
 
