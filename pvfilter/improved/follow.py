@@ -1,6 +1,7 @@
 """Following a floor line into the scans after it was seen strongly.
 
-The level view comes closer at most ``memory_shrink_mps`` in a level scan, and not at all
+The level view comes closer in a level scan at most ``memory_shrink_mps`` (behind a
+segment across the travel, ``line_shrink_mps`` plus the sensor's travel), and not at all
 behind a candidate line (:mod:`pvfilter.improved.memory`). A floor line that settles
 near the structure behind it, as a held tilt in front of a wall puts it, can lose the
 new points that made it a candidate: most of its points lie within the free-space

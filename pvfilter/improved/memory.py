@@ -186,7 +186,8 @@ class LevelMemory:
             no_return: per beam, nothing within ``range_max`` (``+inf``).
             view: what :meth:`view` returned for it; None for the first scan of a sequence.
             dt: time since the previous scan, s.
-            params: the margins, ``memory_shrink_mps``, ``confirm_free_s``, ``max_event_s``.
+            params: the margins, ``memory_shrink_mps``, ``line_shrink_mps``,
+                ``confirm_free_s``, ``max_event_s``.
             level: the scan plane was level: the scan may teach the view.
             hold: bool per beam: the view does not come closer there (None: nowhere).
             velocity: the sensor's motion per second during the scan (None: standing).
