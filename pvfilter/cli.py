@@ -35,7 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR "
         "scans of an .npz scan file and write the filtered scans, masks and scores.",
         epilog="Other commands: 'pvfilter bag IN OUT' filters a ROS bag (rosbag2 or ROS 1), "
-        "'pvfilter eval-logs FILE...' counts false alarms on real logs; each has its --help.",
+        "'pvfilter eval-logs FILE...' counts false alarms on real logs, 'pvfilter eval-labels "
+        "FILE...' scores filters on labelled scans (PR-curve AUC); each has its --help.",
     )
     parser.add_argument("input", nargs="?", help="scan file (.npz: ranges, stamps, LaserScan)")
     parser.add_argument("output", nargs="?", help="the filtered scan file to write (.npz)")
@@ -50,13 +51,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command; returns the exit status. ``pvfilter eval-logs ...`` evaluates
-    filters on real logs (:mod:`pvfilter.eval_logs`), ``pvfilter bag IN OUT`` filters a
+    filters on real logs (:mod:`pvfilter.eval_logs`), ``pvfilter eval-labels ...`` on
+    labelled scan files (:mod:`pvfilter.eval_labels`), ``pvfilter bag IN OUT`` filters a
     ROS bag (:mod:`pvfilter.bag.command`)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["eval-logs"]:
         from pvfilter.eval_logs import main as eval_logs  # imports the command's own module
 
         return eval_logs(argv[1:])
+    if argv[:1] == ["eval-labels"]:
+        from pvfilter.eval_labels import main as eval_labels
+
+        return eval_labels(argv[1:])
     if argv[:1] == ["bag"]:
         from pvfilter.bag.command import main as bag
 

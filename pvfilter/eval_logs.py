@@ -17,13 +17,14 @@ import dataclasses
 import json
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from pvfilter.cli_options import setting
 from pvfilter.contract import ScanFilter
 from pvfilter.exits import run_command
 from pvfilter.logs import LogReport, evaluate_log, markdown
 from pvfilter.params_file import load_params
-from pvfilter.registry import entry_for_params, filter_entry
+from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
 
 DEFAULT_FILTER = "improved"
 
@@ -36,6 +37,15 @@ def build_parser() -> argparse.ArgumentParser:
         "every beam removed is a false alarm.",
     )
     parser.add_argument("paths", nargs="+", help="scan files (.npz), or folders of them")
+    add_filter_arguments(parser)
+    parser.add_argument("--odometry", action="store_true", help="give the logs' odometry")
+    parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
+    return parser
+
+
+def add_filter_arguments(parser: argparse.ArgumentParser) -> None:
+    """The filter to evaluate (``--filter``, ``--params``, ``--set``) and those compared
+    with it (``--compare``), as the evaluation commands take them."""
     parser.add_argument(
         "--filter", metavar="NAME", default=DEFAULT_FILTER, help="(default: improved)"
     )
@@ -44,9 +54,6 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--compare", nargs="*", default=["paper"], metavar="NAME", help="(default: paper)"
     )
-    parser.add_argument("--odometry", action="store_true", help="give the logs' odometry")
-    parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
-    return parser
 
 
 def log_files(paths: Sequence[str]) -> list[Path]:
@@ -76,9 +83,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     return run_command("pvfilter eval-logs", lambda: _evaluate(args))
 
 
-def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:
-    """The filter the options name and how to build it: ``--params`` (the file names its
-    filter) or ``--filter``, with ``--set NAME=VALUE`` values (read as TOML).
+def chosen_entry(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str, Any]]:
+    """The filter the options name, its parameters and the values that replace theirs:
+    ``--params`` (the file names its filter) or ``--filter``, with ``--set NAME=VALUE``
+    values (read as TOML).
 
     Raises:
         ValueError: a parameter file of another filter, or a bad ``--set``.
@@ -88,7 +96,13 @@ def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:
     if params is not None and args.filter not in (entry.name, DEFAULT_FILTER):
         raise ValueError(f"{args.params}: holds parameters of {entry.name!r}, not {args.filter!r}")
     fields = dict(setting(text) for text in args.set or ())
-    entry.make(params, **fields)  # checks the fields now, before any log is read
+    entry.make(params, **fields)  # checks the fields now, before any file is read
+    return entry, params, fields
+
+
+def chosen(args: argparse.Namespace) -> tuple[str, Callable[[], ScanFilter]]:
+    """The filter the options name and how to build it (:func:`chosen_entry`)."""
+    entry, params, fields = chosen_entry(args)
     return entry.name, lambda: entry.make(params, **fields)
 
 

@@ -1,8 +1,9 @@
 """The headline metrics: Chamfer distance (eq. 6), per-beam PR and AUC, ATE (eq. 7), TUM files.
 
 Computed as the project's design states, so numbers compare across tools. Chamfer distance
-lives here; the others in :mod:`scaneval.precision_recall`, :mod:`scaneval.trajectory`
-and :mod:`scaneval.tum`, re-exported.
+lives here; the others in :mod:`pvfilter.precision_recall` (the robot-side library scores
+labelled scan files with it), :mod:`scaneval.trajectory` and :mod:`scaneval.tum`,
+re-exported.
 """
 
 from __future__ import annotations
@@ -11,8 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
-from scaneval.match_result import finite_points
-from scaneval.precision_recall import (
+from pvfilter.precision_recall import (
     PrCurve,
     auc_pr,
     confusion_counts,
@@ -20,6 +20,7 @@ from scaneval.precision_recall import (
     precision_recall,
     precision_recall_from_counts,
 )
+from scaneval.match_result import finite_points
 from scaneval.trajectory import AteResult, associate, ate, umeyama
 from scaneval.tum import read_tum, se2_from_xyz_quat, write_tum, xyz_quat_from_se2
 

@@ -8,20 +8,16 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
+from pvfilter.labelled import THRESHOLD_SWEEP
 
 SEQUENCES: tuple[str, ...] = ("normal_sequence", "disturb_sequence")  # the paper's IV-C data
 DEFAULT_HOUSES: tuple[str, ...] = ("house1", "house2", "random:1", "random:2")
 MATCHERS: tuple[str, ...] = ("icp", "ndt", "hsm")
 FAMILIES: tuple[str, ...] = ("pvf", "pvf_detection_only", "datmo", "imu_gate", "imu_gate_truth")
 
-# the P_th sweep: dense near 1, where the filter's operating points are
-P_TH_VALUES: tuple[float, ...] = (
-    *np.round(np.arange(0.0, 0.9, 0.05), 2).tolist(),
-    *np.round(np.arange(0.9, 1.0, 0.01), 2).tolist(),
-    0.995,
-    0.999,
-)
+# the P_th sweep: dense near 1, where the filter's operating points are (the one
+# ``pvfilter eval-labels`` sweeps on labelled scan files)
+P_TH_VALUES: tuple[float, ...] = THRESHOLD_SWEEP
 # the DATMO-like speed threshold sweep, m/s; the paper's 0.1, 0.2 and 0.3 are in it
 DATMO_SPEEDS_MPS: tuple[float, ...] = (
     0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0,

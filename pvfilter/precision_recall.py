@@ -1,5 +1,9 @@
 """Per-beam precision and recall, PR curves and their area (the project's AUC rule).
 
+Here, in the filter's own package, so a robot that installs the filter alone can score
+it on labelled scan files (``pvfilter eval-labels``); :mod:`scaneval.metrics` re-exports
+it for the evaluations.
+
 Counts run over beams whose input range is finite. A beam is positive when its label is a
 pitch-variation label (FLOOR, CEILING or HORIZONTAL) and predicted positive when the
 method removed it. Precision is 1 where nothing is removed; recall is 1 where there is
@@ -148,4 +152,5 @@ def auc_pr(precision: ArrayLike, recall: ArrayLike) -> float:
     order = np.lexsort((-precision, recall))
     recall = np.concatenate(([0.0], recall[order]))
     precision = np.concatenate((precision[order[:1]], precision[order]))
-    return float(np.trapezoid(precision, recall))
+    # the trapezoid rule, written out: np.trapezoid needs numpy 2, and a robot may have 1.x
+    return float(np.sum(np.diff(recall) * (precision[1:] + precision[:-1])) / 2.0)

@@ -1,0 +1,372 @@
+"""Scoring a filter on labelled scan files: per-beam precision, recall and PR-curve AUC.
+
+A labelled scan file is a scan file (layout in :mod:`pvfilter.io`) with the ground truth
+of every beam: an array ``labels`` of the shape of ``ranges`` holding the beam label codes
+(0 NO_RETURN, 1 STATIC, 2 FLOOR, 3 CEILING, 4 HORIZONTAL, 5 DYNAMIC, 6 OCCLUDED), as the
+simulator writes them (``twsb run --out``) and as any other generator or hand labelling
+can. The robot's geometry may come with it, one value each: ``lidar_height_m``,
+``axle_height_m``, ``lidar_ahead_m`` (m); a filter whose parameters have such a field is
+told it.
+
+The counting rule is the project's (:mod:`pvfilter.precision_recall`): beams with a
+finite input range count; FLOOR, CEILING and HORIZONTAL beams are the positives; a beam is
+predicted positive when the filter removed it. DYNAMIC beams (a moving object) and
+OCCLUDED ones (the robot's own body) are neither hits nor false alarms, as in the
+simulator's stress matrix.
+
+The PR curve sweeps the filter's threshold parameter (its registry entry's
+``threshold``). One pass gives every value for a ``one_pass`` filter, whose scores say at
+which thresholds each beam is removed (the improved filter); any other filter runs afresh
+for every value, as its state may depend on it (the paper's tracking does). A filter
+without a threshold gives one point.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+import warnings
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pvfilter.contract import ScanFilter
+from pvfilter.io import read_arrays, scans_from_arrays
+from pvfilter.precision_recall import PrCurve, pr_curve
+from pvfilter.registry import ROBOT_GEOMETRY_FIELDS, FilterEntry
+from pvfilter.scan import Scan
+
+LABEL_NAMES = ("NO_RETURN", "STATIC", "FLOOR", "CEILING", "HORIZONTAL", "DYNAMIC", "OCCLUDED")
+PITCH_VARIATION_LABELS = (2, 3, 4)  # FLOOR, CEILING, HORIZONTAL
+NOT_COUNTED_LABELS = (5, 6)  # DYNAMIC, OCCLUDED: neither hits nor false alarms
+STATIC_LABEL = 1
+# the threshold sweep: dense near 1, where the filters' operating points are (the
+# simulator's evaluations sweep the same values)
+THRESHOLD_SWEEP: tuple[float, ...] = (
+    *(round(0.05 * k, 2) for k in range(18)),  # 0.0 .. 0.85
+    *(round(0.9 + 0.01 * k, 2) for k in range(10)),  # 0.9 .. 0.99
+    0.995,
+    0.999,
+)
+INPUT_KEYS = {"imu": ("pitch_rad", "roll_rad"), "odometry": ("pose_sensor_in_odom",)}
+
+
+@dataclasses.dataclass(frozen=True)
+class LabelledReport:
+    """One filter over one labelled scan file.
+
+    Attributes:
+        file: the file's name without extension.
+        filter: the filter's name.
+        scans: scans in the file.
+        beams: beams counted (finite range, not DYNAMIC or OCCLUDED), over the file.
+        positives: of those, FLOOR, CEILING or HORIZONTAL.
+        thresholds: the swept values of the filter's threshold (one, NaN, without one).
+        tp, fp, fn: beam counts per swept value.
+        operating_point: the threshold value the filter ran with (one of ``thresholds``).
+        recall_by_label: at the operating point, the share of each positive label's
+            counted beams removed (NaN: none in the file).
+        static_removed: STATIC beams removed at the operating point.
+        static_beams: STATIC beams counted.
+        inputs: the robot inputs the filter was given.
+        scans_per_s: the filter's rate at the operating point.
+    """
+
+    file: str
+    filter: str
+    scans: int
+    beams: int
+    positives: int
+    thresholds: tuple[float, ...]
+    tp: tuple[int, ...]
+    fp: tuple[int, ...]
+    fn: tuple[int, ...]
+    operating_point: float
+    recall_by_label: dict[str, float]
+    static_removed: int
+    static_beams: int
+    inputs: tuple[str, ...]
+    scans_per_s: float
+
+    @property
+    def curve(self) -> PrCurve:
+        """The PR curve (its AUC by the project's rule)."""
+        return pr_curve(self.thresholds, self.tp, self.fp, self.fn)
+
+    @property
+    def auc(self) -> float:
+        """Area under the PR curve."""
+        return self.curve.auc
+
+    @property
+    def precision(self) -> float:
+        """Precision at the operating point."""
+        return self._at("precision")
+
+    @property
+    def recall(self) -> float:
+        """Recall at the operating point."""
+        return self._at("recall")
+
+    def _at(self, figure: str) -> float:
+        curve = self.curve
+        k = _index_of(curve.thresholds, self.operating_point)
+        return float(getattr(curve, figure)[k])
+
+
+@dataclasses.dataclass(frozen=True)
+class _Truth:
+    """A file's ground truth, per scan: which beams count, and which are positive."""
+
+    counted: np.ndarray  # bool (m, n)
+    positive: np.ndarray  # bool (m, n)
+    labels: np.ndarray  # int (m, n)
+
+
+def read_labels(arrays: Mapping[str, np.ndarray], source: str) -> np.ndarray:
+    """The file's ``labels`` as integers, checked against ``ranges``.
+
+    Raises:
+        ValueError: ``"<source>: labels: ..."``: missing, of another shape than
+            ``ranges``, or holding anything but the codes 0..6.
+    """
+    if "labels" not in arrays:
+        raise ValueError(
+            f"{source}: labels: missing: scoring needs the ground truth of every beam "
+            "(pvfilter eval-logs counts what a filter removes from unlabelled logs)"
+        )
+    labels, shape = np.asarray(arrays["labels"]), np.shape(arrays["ranges"])
+    if labels.shape != shape:
+        raise ValueError(
+            f"{source}: labels: must have the shape of ranges {shape}, got {labels.shape}"
+        )
+    codes = labels.astype(np.float64, copy=False)
+    bad = ~np.isin(codes, np.arange(len(LABEL_NAMES)))
+    if np.count_nonzero(bad):
+        value = labels[bad][0]
+        raise ValueError(
+            f"{source}: labels: codes are 0..6 ({', '.join(LABEL_NAMES)}), got {value!r}"
+        )
+    return labels.astype(np.int64)
+
+
+def geometry_of(arrays: Mapping[str, np.ndarray], source: str) -> dict[str, float]:
+    """The robot geometry the file states (``lidar_height_m`` ...), m.
+
+    Raises:
+        ValueError: ``"<source>: <key>: ..."`` for a value that is not one finite number.
+    """
+    geometry = {}
+    for key in ROBOT_GEOMETRY_FIELDS:
+        if key not in arrays:
+            continue
+        value = np.asarray(arrays[key], dtype=np.float64)
+        if value.size != 1 or not np.isfinite(value).all():
+            raise ValueError(f"{source}: {key}: must be one finite number, m")
+        geometry[key] = float(value.reshape(()))
+    return geometry
+
+
+def robot_inputs_of(
+    arrays: Mapping[str, np.ndarray], count: int, asked: Sequence[str], source: str
+) -> list[dict[str, Any]]:
+    """Per scan, the robot inputs ``asked`` for (``imu``: ``pitch_rad`` and ``roll_rad``;
+    ``odometry``: ``pose_sensor_in_odom``, or ``odom_poses`` with ``laser_offset``).
+
+    Raises:
+        ValueError: ``"<source>: ..."``: an input the file does not hold, or one of the
+            wrong shape.
+    """
+    from pvfilter.logs import odometry_inputs  # (the real-log evaluation reads odometry)
+
+    per_scan: list[dict[str, Any]] = [{} for _ in range(count)]
+    for name in asked:
+        if name == "odometry":
+            try:
+                poses = odometry_inputs(dict(arrays), count)
+            except ValueError as error:
+                raise ValueError(f"{source}: {error}") from None
+            if poses is None:
+                raise ValueError(
+                    f"{source}: odometry: the file has no pose_sensor_in_odom or odom_poses"
+                )
+            for inputs, pose in zip(per_scan, poses, strict=True):
+                inputs.update(pose)
+            continue
+        for key in INPUT_KEYS[name]:
+            if key not in arrays:
+                if key == "roll_rad":
+                    continue  # the filters take the roll as 0 with a pitch
+                raise ValueError(f"{source}: {name}: the file has no {key} array")
+            values = np.asarray(arrays[key], dtype=np.float64)
+            if values.shape != (count,):
+                raise ValueError(f"{source}: {key}: must have shape ({count},), got {values.shape}")
+            for inputs, value in zip(per_scan, values.tolist(), strict=True):
+                inputs[key] = value
+    return per_scan
+
+
+def evaluate_labelled(
+    path: str | Path,
+    entry: FilterEntry,
+    params: Any = None,
+    fields: Mapping[str, Any] | None = None,
+    inputs: Sequence[str] = (),
+    thresholds: Sequence[float] = THRESHOLD_SWEEP,
+) -> LabelledReport | None:
+    """Run the filter over a labelled scan file, and count per swept threshold.
+
+    Args:
+        path: the scan file (.npz) with ``labels``.
+        entry: the filter's registry entry.
+        params: its parameters (None: its defaults).
+        fields: parameter values that replace those of ``params`` (they win over the
+            geometry the file states).
+        inputs: the robot inputs to give (``imu``, ``odometry``), those the filter
+            accepts; none: the scans alone.
+        thresholds: the values of the filter's threshold to sweep; the operating point
+            (its parameters' value) is added when missing.
+
+    Returns:
+        The report; None when the file holds no scans.
+
+    Raises:
+        ValueError: ``"<path>: ..."`` for a malformed file or a missing input.
+    """
+    path = Path(path)
+    arrays = read_arrays(path)
+    if "ranges" not in arrays:
+        return None
+    source = str(path)
+    scans = scans_from_arrays(arrays, source=source)
+    if not scans:
+        return None
+    truth = _truth(read_labels(arrays, source), scans)
+    fields = dict(fields or {})
+    geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
+    usable = set(entry.accepts) | set(entry.needs)  # (a filter gets what it takes)
+    per_scan = robot_inputs_of(arrays, len(scans), inputs, source)
+    per_scan = [{k: v for k, v in extra.items() if k in usable} for extra in per_scan]
+
+    def make(**extra: Any) -> ScanFilter:
+        return entry.make(params, robot_geometry=geometry, **{**fields, **extra})
+
+    operating = _operating_point(entry, params, fields)
+    values = np.unique(np.append(np.asarray(thresholds, dtype=np.float64), operating))
+    if entry.threshold is None:
+        values = np.array([operating])
+    if entry.one_pass or entry.threshold is None:
+        counts, at_operating, rate = _one_pass(make(), scans, per_scan, truth, values, operating)
+    else:
+        counts = np.array(
+            [
+                _counts(_removed(make(**{entry.threshold: v}), scans, per_scan)[0], truth)
+                for v in values
+            ]
+        )
+        removed, rate = _removed(make(), scans, per_scan)
+        at_operating = removed
+    by_label = {}
+    for code in PITCH_VARIATION_LABELS:
+        beams = truth.counted & (truth.labels == code)
+        total = int(np.count_nonzero(beams))
+        found = int(np.count_nonzero(beams & at_operating))
+        by_label[LABEL_NAMES[code]] = found / total if total else math.nan
+    static = truth.counted & (truth.labels == STATIC_LABEL)
+    return LabelledReport(
+        file=path.stem,
+        filter=entry.name,
+        scans=len(scans),
+        beams=int(np.count_nonzero(truth.counted)),
+        positives=int(np.count_nonzero(truth.positive)),
+        thresholds=tuple(values.tolist()),
+        tp=tuple(counts[:, 0].tolist()),
+        fp=tuple(counts[:, 1].tolist()),
+        fn=tuple(counts[:, 2].tolist()),
+        operating_point=operating,
+        recall_by_label=by_label,
+        static_removed=int(np.count_nonzero(static & at_operating)),
+        static_beams=int(np.count_nonzero(static)),
+        inputs=tuple(sorted({k for extra in per_scan for k in extra})),
+        scans_per_s=rate,
+    )
+
+
+def pooled(reports: Sequence[LabelledReport]) -> PrCurve:
+    """The PR curve of one filter's reports with their counts summed (the files taken as
+    one sequence). Their swept values must agree."""
+    first = reports[0].thresholds
+    if any(not np.array_equal(r.thresholds, first, equal_nan=True) for r in reports):
+        raise ValueError("pooled: the reports were swept over different thresholds")
+    tp, fp, fn = (np.sum([getattr(r, k) for r in reports], axis=0) for k in ("tp", "fp", "fn"))
+    return pr_curve(first, tp, fp, fn)
+
+
+def _operating_point(entry: FilterEntry, params: Any, fields: Mapping[str, Any]) -> float:
+    """The threshold value the filter runs with (NaN: it has none)."""
+    if entry.threshold is None:
+        return math.nan
+    if entry.threshold in fields:
+        return float(fields[entry.threshold])
+    params = entry.default_params() if params is None else params
+    return float(getattr(params, entry.threshold))
+
+
+def _truth(labels: np.ndarray, scans: Sequence[Scan]) -> _Truth:
+    finite = np.isfinite(np.stack([s.ranges for s in scans]))
+    counted = finite & ~np.isin(labels, NOT_COUNTED_LABELS)
+    positive = counted & np.isin(labels, PITCH_VARIATION_LABELS)
+    return _Truth(counted, positive, labels)
+
+
+def _run(scan_filter: ScanFilter, scans: Sequence[Scan], per_scan: Sequence[dict]):
+    """Every result of a fresh pass, and the pass's rate (scans per second)."""
+    scan_filter.reset()
+    with warnings.catch_warnings():  # stamps that go back: the filters say so, once each
+        warnings.simplefilter("ignore")
+        start = time.perf_counter()
+        results = [
+            scan_filter.process(s, **extra) for s, extra in zip(scans, per_scan, strict=True)
+        ]
+        seconds = time.perf_counter() - start
+    return results, (len(scans) / seconds if seconds > 0.0 else math.inf)
+
+
+def _removed(scan_filter: ScanFilter, scans: Sequence[Scan], per_scan: Sequence[dict]):
+    results, rate = _run(scan_filter, scans, per_scan)
+    return np.stack([r.removed for r in results]), rate
+
+
+def _counts(removed: np.ndarray, truth: _Truth) -> np.ndarray:
+    """(tp, fp, fn) of one removed mask over the counted beams."""
+    predicted = removed & truth.counted
+    tp = int(np.count_nonzero(predicted & truth.positive))
+    return np.array(
+        [tp, int(np.count_nonzero(predicted)) - tp, int(np.count_nonzero(truth.positive)) - tp]
+    )
+
+
+def _one_pass(scan_filter, scans, per_scan, truth: _Truth, values: np.ndarray, operating: float):
+    """Counts per value from one pass: a beam is removed at ``v`` when its score exceeds
+    ``v`` (a filter without a threshold: its removed mask, one point)."""
+    results, rate = _run(scan_filter, scans, per_scan)
+    removed = np.stack([r.removed for r in results])
+    if math.isnan(operating):
+        return _counts(removed, truth)[None, :], removed, rate
+    scores = np.stack([r.scores for r in results])
+    counted, positive = scores[truth.counted], truth.positive[truth.counted]
+    # per value, beams scoring above it: from the sorted scores, without a (k, beams) mask
+    positives = np.count_nonzero(positive)
+    above = counted.size - np.searchsorted(np.sort(counted), values, side="right")
+    tp = positives - np.searchsorted(np.sort(counted[positive]), values, side="right")
+    counts = np.stack([tp, above - tp, positives - tp], axis=1)
+    return counts, removed, rate
+
+
+def _index_of(thresholds: np.ndarray, value: float) -> int:
+    if math.isnan(value):
+        return 0
+    return int(np.flatnonzero(np.asarray(thresholds) == value)[0])

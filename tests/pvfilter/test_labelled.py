@@ -1,0 +1,188 @@
+"""Filters scored on labelled scan files: the counting rule, the sweep, the command."""
+
+import dataclasses
+import json
+from typing import ClassVar
+
+import numpy as np
+import pytest
+
+from pvfilter.cli import main
+from pvfilter.io import arrays_from_scans
+from pvfilter.labelled import evaluate_labelled, geometry_of, pooled, read_labels
+from pvfilter.registry import FilterEntry, filter_entry, register_filter, unregister_filter
+from pvfilter.synthetic import room_sequence
+
+STATIC, FLOOR, DYNAMIC, OCCLUDED = 1, 2, 5, 6
+
+
+def labelled_arrays(count=60):
+    """A synthetic room sequence with floor lines, as a labelled scan file's arrays."""
+    sequence = room_sequence(count, event_every=20)
+    arrays = arrays_from_scans(sequence.scans)
+    ranges = arrays["ranges"]
+    labels = np.where(np.isfinite(ranges), STATIC, 0).astype(np.uint8)
+    labels[np.isnan(ranges)] = OCCLUDED  # the blocked sector
+    labels[np.array(sequence.truth)] = FLOOR
+    arrays["labels"] = labels
+    return arrays, np.array(sequence.truth)
+
+
+@pytest.fixture
+def labelled_file(tmp_path):
+    arrays, _ = labelled_arrays()
+    path = tmp_path / "room.npz"
+    np.savez(path, **arrays)
+    return path
+
+
+@dataclasses.dataclass(frozen=True)
+class OracleParams:
+    lidar_height_m: float = 0.25
+
+
+class Oracle:
+    """A stand-in filter that removes exactly the floor-line beams of the fixture."""
+
+    seen_heights: ClassVar[list[float]] = []
+
+    def __init__(self, params=OracleParams()):
+        self.truth = labelled_arrays()[1]
+        self.count = 0
+        Oracle.seen_heights.append(params.lidar_height_m)
+
+    def process(self, scan, **inputs):
+        removed = self.truth[self.count].copy()
+        self.count += 1
+        return type("Result", (), {"removed": removed, "scores": removed * 1.0})()
+
+    def reset(self):
+        self.count = 0
+
+
+@pytest.fixture
+def oracle():
+    entry = register_filter(FilterEntry("oracle", Oracle, OracleParams, "the labels"))
+    yield entry
+    unregister_filter("oracle")
+
+
+def test_the_labels_themselves_score_one_and_remove_no_static_beam(labelled_file, oracle):
+    report = evaluate_labelled(labelled_file, oracle)
+    _, truth = labelled_arrays()
+    assert report.positives == truth.sum() > 0
+    assert (report.tp, report.fp, report.fn) == ((truth.sum(),), (0,), (0,))
+    assert report.auc == pytest.approx(1.0) and report.precision == report.recall == 1.0
+    assert report.recall_by_label["FLOOR"] == 1.0 and np.isnan(report.recall_by_label["CEILING"])
+    assert report.static_removed == 0 and report.static_beams > 0
+
+
+def test_one_pass_gives_what_a_fresh_pass_per_threshold_gives(labelled_file):
+    improved = filter_entry("improved")
+    values = (0.0, 0.2, 0.5, 0.8, 0.95)
+    one = evaluate_labelled(labelled_file, improved, thresholds=values)
+    fresh = evaluate_labelled(
+        labelled_file, dataclasses.replace(improved, one_pass=False), thresholds=values
+    )
+    assert one.thresholds == fresh.thresholds == values
+    assert (one.tp, one.fp, one.fn) == (fresh.tp, fresh.fp, fresh.fn)
+    assert one.tp[0] > 0 and one.auc == pytest.approx(fresh.auc)
+
+
+def test_dynamic_and_occluded_beams_are_neither_hits_nor_false_alarms(tmp_path, oracle):
+    arrays, truth = labelled_arrays()
+    moving = (arrays["labels"] == STATIC) & (np.arange(arrays["ranges"].shape[1]) % 7 == 0)
+    arrays["labels"][moving] = DYNAMIC
+    path = tmp_path / "people.npz"
+    np.savez(path, **arrays)
+    report = evaluate_labelled(path, oracle)
+    finite = np.isfinite(arrays["ranges"])
+    assert report.beams == np.count_nonzero(finite) - np.count_nonzero(moving)
+    assert report.positives == truth.sum()
+
+
+def test_the_file_states_the_robot_geometry_and_set_values_win(tmp_path, oracle):
+    arrays, _ = labelled_arrays()
+    arrays["lidar_height_m"] = np.array(0.4)
+    path = tmp_path / "tall.npz"
+    np.savez(path, **arrays)
+    assert geometry_of(arrays, "tall") == {"lidar_height_m": 0.4}
+    Oracle.seen_heights.clear()
+    evaluate_labelled(path, oracle)
+    evaluate_labelled(path, oracle, fields={"lidar_height_m": 0.3})
+    assert Oracle.seen_heights == [0.4, 0.3]
+
+
+def test_a_filter_is_given_only_the_inputs_asked_for_that_it_takes(tmp_path):
+    arrays, _ = labelled_arrays(30)
+    arrays["pitch_rad"] = np.zeros(30)
+    path = tmp_path / "imu.npz"
+    np.savez(path, **arrays)
+    improved, paper = filter_entry("improved"), filter_entry("paper")
+    assert evaluate_labelled(path, improved).inputs == ()
+    assert evaluate_labelled(path, improved, inputs=["imu"]).inputs == ("pitch_rad",)
+    assert evaluate_labelled(path, paper, inputs=["imu"], thresholds=(0.8,)).inputs == ()
+    with pytest.raises(ValueError, match="odometry: the file has no pose_sensor_in_odom"):
+        evaluate_labelled(path, improved, inputs=["odometry"])
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda a: a.pop("labels"), "labels: missing"),
+        (lambda a: a.update(labels=a["labels"][:, :-1]), "labels: must have the shape of ranges"),
+        (lambda a: a["labels"].__setitem__((0, 0), 9), r"labels: codes are 0\.\.6"),
+        (lambda a: a.update(lidar_height_m=np.ones(3)), "lidar_height_m: must be one finite"),
+    ],
+)
+def test_a_malformed_labelled_file_is_named_with_what_is_wrong(tmp_path, change, message):
+    arrays, _ = labelled_arrays(10)
+    change(arrays)
+    path = tmp_path / "bad.npz"
+    np.savez(path, **arrays)
+    with pytest.raises(ValueError, match=message):
+        evaluate_labelled(path, filter_entry("improved"))
+
+
+def test_read_labels_takes_integral_floats():
+    arrays, _ = labelled_arrays(5)
+    arrays["labels"] = arrays["labels"].astype(np.float32)
+    assert read_labels(arrays, "floats").dtype == np.int64
+
+
+def test_the_command_prints_and_writes_every_curve(labelled_file, tmp_path, capsys):
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(labelled_file.parent), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "room" in printed and "improved" in printed and "paper" in printed
+    assert "all 1 files" in printed and "pooled AUC" in printed
+    document = json.loads((out / "report.json").read_text())
+    rows = {row["filter"]: row for row in document["files"]}
+    assert set(rows) == {"improved", "paper"}
+    improved = rows["improved"]
+    assert improved["operating_point"] == 0.5 and len(improved["tp"]) == 30
+    assert document["summary"]["improved"]["pooled_auc"] == pytest.approx(improved["auc"])
+    assert "| room | improved |" in (out / "report.md").read_text()
+
+
+def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
+    arrays, _ = labelled_arrays(30)
+    second = tmp_path / "second.npz"
+    np.savez(second, **arrays)
+    improved = filter_entry("improved")
+    reports = [evaluate_labelled(p, improved) for p in (labelled_file, second)]
+    curve = pooled(reports)
+    np.testing.assert_array_equal(curve.tp, np.add(reports[0].tp, reports[1].tp))
+    assert min(r.auc for r in reports) <= curve.auc <= max(r.auc for r in reports) + 1e-9
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["missing.npz"], "missing.npz: no such file"),
+        (["--set", "nonsense=1", "missing.npz"], "unknown parameter 'nonsense'"),
+    ],
+)
+def test_a_user_mistake_exits_2_with_one_line(argv, message, capsys):
+    assert main(["eval-labels", *argv]) == 2
+    assert message in capsys.readouterr().err
