@@ -69,10 +69,13 @@ def _evaluate(args: argparse.Namespace) -> int:
         runs.setdefault(name, (filter_entry(name), None, {}))  # compared: their defaults
     settings = {entry.name: settings_of(args)}
     files = log_files(args.paths)
+    names = _names(files)
     reports: dict[str, list[LabelledReport]] = {name: [] for name in runs}
     for path in files:
         for name, (run_entry, run_params, run_fields) in runs.items():
-            report = evaluate_labelled(path, run_entry, run_params, run_fields, args.inputs)
+            report = evaluate_labelled(
+                path, run_entry, run_params, run_fields, args.inputs, name=names[path]
+            )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
                 break
@@ -89,6 +92,16 @@ def _evaluate(args: argparse.Namespace) -> int:
     if args.out:
         _write(Path(args.out), args, reports, summaries, settings)
     return 0
+
+
+def _names(files: list[Path]) -> dict[Path, str]:
+    """Each file's name in the reports: without extension, and with its folder's where
+    two files share a name (sequences of several sets, say)."""
+    stems = [path.stem for path in files]
+    return {
+        path: f"{path.parent.name}/{path.stem}" if stems.count(path.stem) > 1 else path.stem
+        for path in files
+    }
 
 
 def _line(report: LabelledReport) -> str:

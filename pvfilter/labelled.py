@@ -59,7 +59,7 @@ class LabelledReport:
     """One filter over one labelled scan file.
 
     Attributes:
-        file: the file's name without extension.
+        file: the file's name without extension (with its folder's where names repeat).
         filter: the filter's name.
         scans: scans in the file.
         beams: beams counted (finite range, not DYNAMIC or OCCLUDED), over the file.
@@ -216,6 +216,7 @@ def evaluate_labelled(
     fields: Mapping[str, Any] | None = None,
     inputs: Sequence[str] = (),
     thresholds: Sequence[float] = THRESHOLD_SWEEP,
+    name: str | None = None,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -229,6 +230,7 @@ def evaluate_labelled(
             accepts; none: the scans alone.
         thresholds: the values of the filter's threshold to sweep; the operating point
             (its parameters' value) is added when missing.
+        name: the file's name in the report (None: its name without extension).
 
     Returns:
         The report; None when the file holds no scans.
@@ -277,7 +279,7 @@ def evaluate_labelled(
         by_label[LABEL_NAMES[code]] = found / total if total else math.nan
     static = truth.counted & (truth.labels == STATIC_LABEL)
     return LabelledReport(
-        file=path.stem,
+        file=path.stem if name is None else name,
         filter=entry.name,
         scans=len(scans),
         beams=int(np.count_nonzero(truth.counted)),

@@ -186,3 +186,12 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
 def test_a_user_mistake_exits_2_with_one_line(argv, message, capsys):
     assert main(["eval-labels", *argv]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_files_of_one_name_in_two_folders_are_told_apart(labelled_file, tmp_path, capsys):
+    other = tmp_path / "other"
+    other.mkdir()
+    np.savez(other / "room.npz", **labelled_arrays(30)[0])
+    assert main(["eval-labels", str(labelled_file), str(other), "--compare"]) == 0
+    printed = capsys.readouterr().out
+    assert f"{labelled_file.parent.name}/room " in printed and "other/room " in printed
