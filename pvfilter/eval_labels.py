@@ -95,13 +95,12 @@ def _evaluate(args: argparse.Namespace) -> int:
 
 
 def _names(files: list[Path]) -> dict[Path, str]:
-    """Each file's name in the reports: without extension, and with its folder's where
-    two files share a name (sequences of several sets, say)."""
+    """Each file's name in the reports: without extension, and all with their folder's
+    where two files share a name (sequences of several sets, say)."""
     stems = [path.stem for path in files]
-    return {
-        path: f"{path.parent.name}/{path.stem}" if stems.count(path.stem) > 1 else path.stem
-        for path in files
-    }
+    if len(set(stems)) == len(stems):
+        return {path: path.stem for path in files}
+    return {path: f"{path.parent.name}/{path.stem}" for path in files}
 
 
 def _line(report: LabelledReport) -> str:

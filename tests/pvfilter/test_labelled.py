@@ -192,6 +192,8 @@ def test_files_of_one_name_in_two_folders_are_told_apart(labelled_file, tmp_path
     other = tmp_path / "other"
     other.mkdir()
     np.savez(other / "room.npz", **labelled_arrays(30)[0])
+    np.savez(other / "hall.npz", **labelled_arrays(30)[0])
     assert main(["eval-labels", str(labelled_file), str(other), "--compare"]) == 0
     printed = capsys.readouterr().out
     assert f"{labelled_file.parent.name}/room " in printed and "other/room " in printed
+    assert "other/hall " in printed  # all named alike
