@@ -32,11 +32,13 @@ def build_parser() -> argparse.ArgumentParser:
     """The command's arguments: files, the filter, its parameters, the modes."""
     parser = argparse.ArgumentParser(
         prog="pvfilter",
-        description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR "
+        description="Remove pitch-variation points (floor and ceiling hits) from the 2D LiDAR\n"
         "scans of an .npz scan file and write the filtered scans, masks and scores.",
-        epilog="Other commands: 'pvfilter bag IN OUT' filters a ROS bag (rosbag2 or ROS 1), "
-        "'pvfilter eval-logs FILE...' counts false alarms on real logs, 'pvfilter eval-labels "
-        "FILE...' scores filters on labelled scans (PR-curve AUC); each has its --help.",
+        epilog="other commands (each has its --help):\n"
+        "  pvfilter bag IN OUT          filter the scans of a ROS bag (rosbag2 or ROS 1)\n"
+        "  pvfilter eval-logs FILE...   false alarms of filters on unlabelled real logs\n"
+        "  pvfilter eval-labels FILE... PR-curve AUC of filters on labelled scan files",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("input", nargs="?", help="scan file (.npz: ranges, stamps, LaserScan)")
     parser.add_argument("output", nargs="?", help="the filtered scan file to write (.npz)")

@@ -63,11 +63,23 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _evaluate(args: argparse.Namespace) -> int:
+    if not 0.0 <= args.target <= 1.0:
+        raise ValueError(f"--target: an AUC is in [0, 1], got {args.target}")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
-    for name in args.compare:
-        runs.setdefault(name, (filter_entry(name), None, {}))  # compared: their defaults
     settings = {entry.name: settings_of(args)}
+    for name in args.compare:  # compared filters run with their defaults
+        label = name if name not in runs else f"{name} (defaults)"
+        if settings.get(name) == "defaults" or label in runs:
+            continue  # the same filter with the same parameters
+        runs[label] = (filter_entry(name), None, {})
+    given = {key for name in args.inputs for key in INPUT_KEYS[name]}
+    for label, (run_entry, _, _) in runs.items():
+        missing = [key for key in run_entry.needs if key not in given]
+        if missing:
+            asked = [name for name, keys in INPUT_KEYS.items() if missing[0] in keys]
+            raise ValueError(f"filter {label!r} needs {missing[0]}: add --inputs {' '.join(asked)}")
+    out = _output_folder(args.out)
     files = log_files(args.paths)
     names = _names(files)
     reports: dict[str, list[LabelledReport]] = {name: [] for name in runs}
@@ -79,8 +91,11 @@ def _evaluate(args: argparse.Namespace) -> int:
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
                 break
+            report = dataclasses.replace(report, filter=name)
             reports[name].append(report)
             print(_line(report))
+    if not any(reports.values()):
+        raise ValueError("no scans in any of the files")
     summaries = {name: _summary(found, args.target) for name, found in reports.items() if found}
     for name, summary in summaries.items():
         print(
@@ -89,9 +104,21 @@ def _evaluate(args: argparse.Namespace) -> int:
             f"{summary['lowest_auc']:.3f} ({summary['lowest_file']}), "
             f"{summary['below_target']} below {args.target:g}"
         )
-    if args.out:
-        _write(Path(args.out), args, reports, summaries, settings)
+    if out is not None:
+        _write(out, args, reports, summaries, settings)
     return 0
+
+
+def _output_folder(text: str | None) -> Path | None:
+    """The ``--out`` folder, made now: a path it cannot be is reported before the work."""
+    if text is None:
+        return None
+    out = Path(text)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"--out {text}: cannot be a folder ({error.strerror or error})") from None
+    return out
 
 
 def _names(files: list[Path]) -> dict[Path, str]:
@@ -131,7 +158,6 @@ def _summary(reports: list[LabelledReport], target: float) -> dict:
 
 
 def _write(out: Path, args, reports, summaries, settings) -> None:
-    out.mkdir(parents=True, exist_ok=True)
     rows = [
         dict(
             dataclasses.asdict(r),
@@ -144,9 +170,21 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         for r in found
     ]
     document = {"inputs": args.inputs, "target_auc": args.target, "summary": summaries}
-    (out / "report.json").write_text(json.dumps({**document, "files": rows}, indent=1) + "\n")
+    text = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
+    (out / "report.json").write_text(text + "\n")
     (out / "report.md").write_text(markdown(reports, summaries, args.inputs, args.target, settings))
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
+
+
+def _no_nan(value):
+    """``value`` with every NaN as None: strict JSON has no NaN (a label the file lacks)."""
+    if isinstance(value, dict):
+        return {key: _no_nan(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_no_nan(item) for item in value]
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    return value
 
 
 def markdown(reports, summaries, inputs, target, settings) -> str:
@@ -160,8 +198,9 @@ def markdown(reports, summaries, inputs, target, settings) -> str:
         "and OCCLUDED ones excepted; positives are FLOOR, CEILING and HORIZONTAL beams.",
         "",
         "| file | filter | AUC | precision | recall | operating point | positives | beams | "
-        "FLOOR / CEILING / HORIZONTAL found | STATIC removed | scans/s |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "FLOOR / CEILING / HORIZONTAL found | STATIC removed | geometry from the file (m) | "
+        "scans/s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for found in reports.values():
         for r in found:
@@ -172,7 +211,7 @@ def markdown(reports, summaries, inputs, target, settings) -> str:
             lines.append(
                 f"| {r.file} | {r.filter} | {r.auc:.3f} | {r.precision:.3f} | {r.recall:.3f} | "
                 f"{r.operating_point:g} | {r.positives} | {r.beams} | {by_label} | "
-                f"{static:.2%} | {r.scans_per_s:.0f} |"
+                f"{static:.2%} | {_geometry(r.geometry)} | {r.scans_per_s:.0f} |"
             )
     lines += [
         "",
@@ -187,3 +226,8 @@ def markdown(reports, summaries, inputs, target, settings) -> str:
             f"({s['lowest_file']}) | {s['below_target']} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def _geometry(geometry: dict[str, float]) -> str:
+    """The geometry a filter was told, as a table cell (– : none)."""
+    return ", ".join(f"{key} {value:.3f}" for key, value in geometry.items()) or "–"

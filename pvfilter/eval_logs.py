@@ -47,12 +47,21 @@ def add_filter_arguments(parser: argparse.ArgumentParser) -> None:
     """The filter to evaluate (``--filter``, ``--params``, ``--set``) and those compared
     with it (``--compare``), as the evaluation commands take them."""
     parser.add_argument(
-        "--filter", metavar="NAME", default=DEFAULT_FILTER, help="(default: improved)"
+        "--filter",
+        metavar="NAME",
+        default=DEFAULT_FILTER,
+        help="the filter to evaluate (default: improved; 'pvfilter --list' names them all)",
     )
     parser.add_argument("--params", metavar="FILE", help="a parameter file (names its filter)")
-    parser.add_argument("--set", action="append", metavar="NAME=VALUE", help="one parameter")
     parser.add_argument(
-        "--compare", nargs="*", default=["paper"], metavar="NAME", help="(default: paper)"
+        "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
+    )
+    parser.add_argument(
+        "--compare",
+        nargs="*",
+        default=["paper"],
+        metavar="NAME",
+        help="filters run beside it with their defaults (default: paper; '--compare' alone: none)",
     )
 
 
@@ -91,7 +100,10 @@ def chosen_entry(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str, 
     Raises:
         ValueError: a parameter file of another filter, or a bad ``--set``.
     """
-    params = load_params(args.params) if args.params else None
+    try:
+        params = load_params(args.params) if args.params else None
+    except OSError as error:  # (a missing file, a folder: its errno text alone names neither)
+        raise ValueError(f"--params {args.params}: {error.strerror or error}") from None
     entry = entry_for_params(params) if params is not None else filter_entry(args.filter)
     if params is not None and args.filter not in (entry.name, DEFAULT_FILTER):
         raise ValueError(f"{args.params}: holds parameters of {entry.name!r}, not {args.filter!r}")

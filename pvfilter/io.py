@@ -14,6 +14,15 @@ key                       shape       meaning
 ``time_increment``        () or (m,)  optional, s between beams (default 0)
 ``scan_time``             () or (m,)  optional, s between scans (default 0)
 ``intensities``           (m, n)      optional
+``labels``                (m, n)      optional, ground truth: the beam label codes 0..6
+                                      (``pvfilter eval-labels`` scores filters with them)
+``pitch_rad``             (m,)        optional robot input: the pitch the robot's
+                                      estimator gave, rad, positive nose down (also
+                                      ``roll_rad``)
+``pose_sensor_in_odom``   (m, 3)      optional robot input: the LiDAR's odometry pose
+                                      ``(x m, y m, yaw rad)``
+``lidar_height_m``        ()          optional robot geometry, m (also ``axle_height_m``,
+                                      ``lidar_ahead_m``): ``eval-labels`` tells the filters
 ========================  ==========  =====================================================
 
 The output file holds every input array unchanged except ``ranges``, which holds the

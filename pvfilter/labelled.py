@@ -72,6 +72,7 @@ class LabelledReport:
         static_removed: STATIC beams removed at the operating point.
         static_beams: STATIC beams counted.
         inputs: the robot inputs the filter was given.
+        geometry: the robot geometry the file stated and the filter was told, m.
         scans_per_s: the filter's rate at the operating point.
     """
 
@@ -89,6 +90,7 @@ class LabelledReport:
     static_removed: int
     static_beams: int
     inputs: tuple[str, ...]
+    geometry: dict[str, float]
     scans_per_s: float
 
     @property
@@ -146,7 +148,7 @@ def read_labels(arrays: Mapping[str, np.ndarray], source: str) -> np.ndarray:
     codes = labels.astype(np.float64, copy=False)
     bad = ~np.isin(codes, np.arange(len(LABEL_NAMES)))
     if np.count_nonzero(bad):
-        value = labels[bad][0]
+        value = labels[bad][0].item()
         raise ValueError(
             f"{source}: labels: codes are 0..6 ({', '.join(LABEL_NAMES)}), got {value!r}"
         )
@@ -249,6 +251,12 @@ def evaluate_labelled(
     truth = _truth(read_labels(arrays, source), scans)
     fields = dict(fields or {})
     geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
+    takes = (
+        set()
+        if entry.params_type is None
+        else {f.name for f in dataclasses.fields(entry.params_type)}
+    )
+    told = {k: v for k, v in geometry.items() if k in takes}  # what the filter is told
     usable = set(entry.accepts) | set(entry.needs)  # (a filter gets what it takes)
     per_scan = robot_inputs_of(arrays, len(scans), inputs, source)
     per_scan = [{k: v for k, v in extra.items() if k in usable} for extra in per_scan]
@@ -293,6 +301,7 @@ def evaluate_labelled(
         static_removed=int(np.count_nonzero(static & at_operating)),
         static_beams=int(np.count_nonzero(static)),
         inputs=tuple(sorted({k for extra in per_scan for k in extra})),
+        geometry=told,
         scans_per_s=rate,
     )
 

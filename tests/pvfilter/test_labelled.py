@@ -197,3 +197,50 @@ def test_files_of_one_name_in_two_folders_are_told_apart(labelled_file, tmp_path
     printed = capsys.readouterr().out
     assert f"{labelled_file.parent.name}/room " in printed and "other/room " in printed
     assert "other/hall " in printed  # all named alike
+
+
+def test_a_tuned_filter_is_compared_with_its_defaults(labelled_file, capsys):
+    argv = ["eval-labels", str(labelled_file), "--set", "p_th=0.3", "--compare", "improved"]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "improved   AUC" in printed and "improved (defaults) AUC" in printed
+    assert "at 0.3;" in printed and "at 0.5;" in printed
+
+
+def test_the_report_is_strict_json_and_states_the_geometry_told(tmp_path, capsys):
+    arrays, _ = labelled_arrays(30)
+    arrays["lidar_height_m"] = np.array(0.3)
+    np.savez(tmp_path / "room.npz", **arrays)
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(tmp_path / "room.npz"), "--out", str(out)]) == 0
+
+    def refuse(constant):
+        raise ValueError(constant)
+
+    document = json.loads((out / "report.json").read_text(), parse_constant=refuse)
+    rows = {row["filter"]: row for row in document["files"]}
+    assert rows["improved"]["recall_by_label"]["CEILING"] is None  # no ceiling beam: null
+    assert rows["improved"]["geometry"] == {"lidar_height_m": 0.3}
+    assert "lidar_height_m 0.300" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--target", "1.5"], "--target: an AUC is in [0, 1]"),
+        (["--params", "nosuch.toml"], "--params nosuch.toml: No such file or directory"),
+        (["--filter", "imu_gate", "--compare"], "needs pitch_rad: add --inputs imu"),
+    ],
+)
+def test_a_mistake_in_the_options_stops_before_any_file_is_read(
+    labelled_file, argv, message, capsys
+):
+    assert main(["eval-labels", str(labelled_file), *argv]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err and captured.out == ""
+
+
+def test_an_out_path_that_cannot_be_a_folder_stops_before_the_work(labelled_file, capsys):
+    assert main(["eval-labels", str(labelled_file), "--out", str(labelled_file)]) == 2
+    captured = capsys.readouterr()
+    assert "cannot be a folder" in captured.err and captured.out == ""
