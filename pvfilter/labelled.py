@@ -270,15 +270,13 @@ def evaluate_labelled(
         values = np.array([operating])
     if entry.one_pass or entry.threshold is None:
         counts, at_operating, rate = _one_pass(make(), scans, per_scan, truth, values, operating)
-    else:
-        counts = np.array(
-            [
-                _counts(_removed(make(**{entry.threshold: v}), scans, per_scan)[0], truth)
-                for v in values
-            ]
-        )
-        removed, rate = _removed(make(), scans, per_scan)
-        at_operating = removed
+    else:  # a fresh pass per value; the operating point's (one of them) is the one reported
+        counts = np.zeros((values.size, 3), dtype=np.int64)
+        for k, value in enumerate(values.tolist()):
+            removed, pass_rate = _removed(make(**{entry.threshold: value}), scans, per_scan)
+            counts[k] = _counts(removed, truth)
+            if value == operating:
+                at_operating, rate = removed, pass_rate
     by_label = {}
     for code in PITCH_VARIATION_LABELS:
         beams = truth.counted & (truth.labels == code)
