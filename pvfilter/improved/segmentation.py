@@ -10,7 +10,9 @@ scan order (not across a range jump), and a segment is a run of consecutive poin
   that returned no echo lie between them (:func:`break_distances`: a floor met at a
   grazing angle echoes on a few beams only), and
 - all lie on a line across the direction of travel (local direction within
-  ``line_angle_deg`` of the sensor's y axis), or all do not.
+  ``line_angle_deg`` of the sensor's y axis), or all do not; a lone point whose two
+  neighbours agree takes their side (:func:`single_flips_smoothed`: a floor line leaning
+  with the roll, met by a noisy scanner, lies near that bound).
 
 The neighbourhood is a chord of about ``chord_m``: near the sensor, where the range noise
 is large against the beam spacing, it spans more beams. Each segment then gets a
@@ -150,6 +152,23 @@ def across_travel(directions: np.ndarray, line_angle_deg: float) -> np.ndarray:
     near = indices((size >= angle - SINE_BAND_RAD) & ~across)
     if near.size:
         across[near] = np.abs(np.sin(directions.take(near))) > bound
+    return across
+
+
+def single_flips_smoothed(across: np.ndarray) -> np.ndarray:
+    """``across`` with every point whose two neighbours in scan order agree with each
+    other and not with it given their value: the majority of three.
+
+    A point's local direction is measured over a chord of several beams, so a real turn
+    of direction (a wall meeting the floor line) changes it over a run of points; one
+    point alone across the direction of travel, or alone not, is range noise. A floor line
+    leaning with the roll, met by a noisy scanner, sits near the ``line_angle_deg`` bound,
+    and such lone points would cut it into pieces too short to score. In place; the first
+    and last point keep their values.
+    """
+    if across.size > 2:
+        before, after = across[:-2], across[2:]
+        across[1:-1] = np.where(before == after, before, across[1:-1])
     return across
 
 
@@ -320,7 +339,7 @@ def segment_scan(
     jumps = gap > break_distances(ranges[1:], beams, increment, params.break_distance_m, no_echo)
     half_widths = chord_half_widths(ranges, increment, params.chord_m)
     directions = _chord_directions(points, half_widths, jumps.nonzero()[0] + 1)
-    across = across_travel(directions, params.line_angle_deg)
+    across = single_flips_smoothed(across_travel(directions, params.line_angle_deg))
     cuts = (jumps | (across[1:] != across[:-1])).nonzero()[0] + 1
     seam_joined = False
     if ring and cuts.size > 0 and across[0] == across[-1]:  # the last point, then the first
