@@ -4,11 +4,13 @@ installed) and for a Ctrl-C."""
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable
 
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
+EXIT_PIPE_CLOSED = 141  # 128 + SIGPIPE, as a Unix tool killed by a closed pipe ends
 
 
 def run_command(
@@ -18,7 +20,9 @@ def run_command(
     mistakes: tuple[type[BaseException], ...] = (OSError, ValueError),
 ) -> int:
     """``work()``'s exit status; a user mistake ends in ``"<prog>: error: <what>"`` and 2,
-    a Ctrl-C in ``"<prog>: <interrupted>"`` and 130, both on stderr.
+    a Ctrl-C in ``"<prog>: <interrupted>"`` and 130, both on stderr. Output piped into a
+    reader that stopped early (``| head``) ends the command quietly with 141, as a Unix
+    tool ends.
 
     Args:
         prog: the command's name, as its messages start.
@@ -31,6 +35,21 @@ def run_command(
     except KeyboardInterrupt:
         print(f"{prog}: {interrupted}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        _silence_stdout()
+        return EXIT_PIPE_CLOSED
     except mistakes as error:
         print(f"{prog}: error: {error}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _silence_stdout() -> None:
+    """Point stdout at the null device: the reader is gone, and flushing what is left for
+    it at exit would raise again."""
+    try:
+        descriptor = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # not a file (a test's capture)
+        return
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, descriptor)
+    os.close(null)
