@@ -54,18 +54,25 @@ def test_floor_line_and_the_side_walls_it_runs_into_are_different_segments():
     assert segments.across[main]
 
 
+def main_floor_segment(scan, hit, noise_m, seed):
+    """The segment holding most of the floor line once ``noise_m`` of range noise is
+    added: its share of the floor beams, and whether it lies across the travel."""
+    rng = np.random.default_rng(seed)
+    noisy = scan.with_ranges(scan.ranges + rng.normal(0.0, noise_m, len(scan)))
+    segments, beams = segments_of(noisy)
+    on_floor = segments.labels[hit[beams] == 2]
+    main = np.bincount(on_floor).argmax()
+    return np.count_nonzero(on_floor == main) / on_floor.size, segments.across[main]
+
+
 @pytest.mark.parametrize("tilt_deg", [20.0, 30.0])
 def test_a_steep_floor_line_near_the_sensor_stays_one_segment_in_range_noise(tilt_deg):
     # 0.5 m ahead, 2 cm noise against beam spacings of 4 mm: a chord of a few beams would
     # read noise as direction and break the line into pieces
     scan, hit = tilted_scan(pitch_rad=math.radians(tilt_deg), walls=room_segments(6, 4, 3, 3))
-    rng = np.random.default_rng(3)
-    noisy = scan.with_ranges(scan.ranges + rng.normal(0.0, 0.02, len(scan)))
-    segments, beams = segments_of(noisy)
-    on_floor = hit[beams] == 2
-    main = np.bincount(segments.labels[on_floor]).argmax()
-    assert np.count_nonzero(segments.labels[on_floor] == main) >= 0.85 * on_floor.sum()
-    assert segments.across[main]
+    share, across = main_floor_segment(scan, hit, 0.02, seed=3)
+    assert share >= 0.85
+    assert across
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -76,13 +83,9 @@ def test_a_floor_line_leaning_with_the_roll_stays_one_segment_in_range_noise(see
     scan, hit = tilted_scan(
         pitch_rad=math.radians(6.0), roll_rad=math.radians(3.0), walls=room_segments(8, 6, 4, 3)
     )
-    rng = np.random.default_rng(seed)
-    noisy = scan.with_ranges(scan.ranges + rng.normal(0.0, 0.03, len(scan)))
-    segments, beams = segments_of(noisy)
-    on_floor = hit[beams] == 2
-    main = np.bincount(segments.labels[on_floor]).argmax()
-    assert np.count_nonzero(segments.labels[on_floor] == main) >= 0.95 * on_floor.sum()
-    assert segments.across[main]
+    share, across = main_floor_segment(scan, hit, 0.03, seed)
+    assert share >= 0.95
+    assert across
 
 
 def test_a_lone_point_takes_the_side_of_its_two_neighbours():
