@@ -46,7 +46,8 @@ from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
-from pvfilter.improved.scoring import line_pitch
+from pvfilter.improved.roll import RollBound
+from pvfilter.improved.scoring import line_pitch, strongest_confident
 from pvfilter.improved.segmentation import Segments, segment_scan
 from pvfilter.improved.sweep import deskew, unstretch
 from pvfilter.scan import Scan
@@ -142,7 +143,10 @@ class ImprovedPitchVariationFilter:
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
-        self._line_params = self.params  # the point counts for the scan's beam spacing
+        self._spacing_params = self.params  # the point counts for the scan's beam spacing
+        self._roll = RollBound(self.params)
+        self._line_params = self.params  # and the roll its confident lines measured
+        self._segment_params = self.params  # and the lean that roll gives a floor line
         self._previous_stamp: float | None = None
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
@@ -150,11 +154,20 @@ class ImprovedPitchVariationFilter:
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
+    @property
+    def roll_bound_deg(self) -> float:
+        """The roll the lean gates allow now, deg: ``max_roll_deg``, or more where the
+        scans' confident floor lines measured more (``learn_roll``,
+        :mod:`pvfilter.improved.roll`)."""
+        return self._line_params.max_roll_deg
+
     def reset(self) -> None:
         """Forget the history: the next scan starts a new sequence."""
         self._new_sequence = True
         self._previous_stamp = None
         self._attitude.reset()
+        self._roll.reset()
+        self._line_params = self._segment_params = self._spacing_params
 
     def process(
         self,
@@ -196,6 +209,7 @@ class ImprovedPitchVariationFilter:
             guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
             confident = None if guessed else line_pitch(detection.segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted)
+        self._learn_roll(detection, outcome)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(prepared, found, outcome.coast)
         tilt = self._tilt(detection, attitude)
@@ -206,6 +220,19 @@ class ImprovedPitchVariationFilter:
             self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose)
         # remove: the beams of every detected segment become NaN
         return removal(detection)
+
+    def _learn_roll(self, detection: LineDetection, outcome: _MatchOutcome) -> None:
+        """Measure the plane's roll on the scan's confident floor line, if it has one."""
+        if outcome.fresh or not self.params.learn_roll:
+            return
+        segments, scores = detection.segments, detection.segment_scores
+        strongest = strongest_confident(segments, scores, self._line_params)
+        if strongest is None:
+            return
+        self._roll.learn(segments.normals[strongest], float(scores.tilt_rad[strongest]))
+        if self._roll.bound_deg != self._line_params.max_roll_deg:
+            self._line_params = self._roll.applied(self._spacing_params)
+            self._segment_params = self._roll.segmenting(self._spacing_params)
 
     def _prepare(
         self, scan: Scan, dt: float, pose: np.ndarray | None, attitude: Attitude | None
@@ -218,10 +245,14 @@ class ImprovedPitchVariationFilter:
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
         beams = indices(valid)
-        line_params = self._line_params  # the point counts for this scan's beam spacing
         no_echo = scan.ranges == np.inf  # beams that returned nothing: bridged in lines
         segments = segment_scan(
-            points.take(beams, axis=0), beams, layout.increment, line_params, layout.ring, no_echo
+            points.take(beams, axis=0),
+            beams,
+            layout.increment,
+            self._segment_params,
+            layout.ring,
+            no_echo,
         )
         directions = np.empty(len(scan))
         directions.fill(np.nan)
@@ -549,7 +580,9 @@ class ImprovedPitchVariationFilter:
         self._new_sequence = False
         if not fits:
             self._layout = BeamLayout.of(scan)
-            self._line_params = self.params.for_beam_spacing(self._layout.increment)
+            self._spacing_params = self.params.for_beam_spacing(self._layout.increment)
+            self._line_params = self._roll.applied(self._spacing_params)
+            self._segment_params = self._roll.segmenting(self._spacing_params)
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0

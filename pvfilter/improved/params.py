@@ -47,7 +47,7 @@ class ImprovedParams:
             line is nearer than the scanner's height over ``sin`` of it.
         max_roll_deg: the largest roll (side tilt) while it pitches, deg (uneven floors,
             turns): a floor line's normal leans from the sensor's x axis by about the roll
-            over the tilt.
+            over the tilt (``learn_roll`` widens it to the roll the scans measure).
         max_pitch_rate_rad_s: the fastest pitch change, rad/s: with a rotating LiDAR the
             beams of one line are measured at different pitches, which bends the line.
         min_ceiling_m: the lowest ceiling the robot drives under, m: a line on the up side
@@ -87,6 +87,10 @@ class ImprovedParams:
         reanchor_view: register the level view against a scan with new returns, and
             correct it where that explains returns seen through it (the dead-reckoned
             view drifts over a pitch event; :mod:`pvfilter.improved.anchor`).
+        learn_roll: measure the scan plane's roll on the scan's confident floor lines, and
+            let the lean gates (``max_roll_deg``) and the segmentation
+            (``line_angle_deg``) allow what it measures, where that is more
+            (:mod:`pvfilter.improved.roll`).
         max_yaw_rate_rad_s: fastest turn the ego-motion search considers, rad/s.
         association_m: beam pairs farther apart than this take no part in the fit, m.
         odom_slip: share of the odometry's step the wheels may be off by (slip on hard
@@ -139,6 +143,7 @@ class ImprovedParams:
     hold_behind_lines: bool = True
     ego_motion: bool = True
     reanchor_view: bool = True
+    learn_roll: bool = True
     max_yaw_rate_rad_s: float = 2.5  # rad/s
     association_m: float = 0.25  # m
     odom_slip: float = 0.15  # 1
@@ -192,7 +197,7 @@ class ImprovedParams:
         check_integer("min_points", self.min_points, 1)
         check_integer("extend_beams", self.extend_beams, 0)
         check_integer("down_side_min_new", self.down_side_min_new, 1)
-        for name in ("hold_behind_lines", "ego_motion", "reanchor_view", "spread"):
+        for name in ("hold_behind_lines", "ego_motion", "reanchor_view", "learn_roll", "spread"):
             check_flag(name, getattr(self, name))
 
     def for_beam_spacing(self, increment_rad: float) -> ImprovedParams:

@@ -283,20 +283,31 @@ def _keeps_place(
     return kept & (np.abs(tilt - held.tilt_rad) <= HELD_TILT_TOLERANCE)
 
 
-def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:
-    """The pitch (rad, positive nose down) at which the scan's strongest confident line is
-    the floor: the gated segment with the most new points, at least ``down_side_min_new``
-    of them, that the scan alone scores at least ``CONFIDENT_SCORE`` (a whole line, new,
-    not fixed in the world, nothing beyond it); None if there is none. The IMU's estimate
-    is checked against it (:mod:`pvfilter.improved.imu`)."""
+def strongest_confident(
+    segments: Segments, scores: SegmentScores, params: ImprovedParams
+) -> int | None:
+    """The scan's strongest confident line: the gated segment with the most new points, at
+    least ``down_side_min_new`` of them, that the scan alone scores at least
+    ``CONFIDENT_SCORE`` (a whole line, new, not fixed in the world, nothing beyond it);
+    None if there is none."""
     if scores.scan_scores is None:
         return None
     confident = scores.gates & (scores.scan_scores >= CONFIDENT_SCORE)
-    if not confident.any():
+    if not np.count_nonzero(confident):
         return None
     strength = np.where(confident, scores.new_counts, 0.0)
     strongest = int(np.argmax(strength))
     if strength[strongest] < params.down_side_min_new:
+        return None
+    return strongest
+
+
+def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:
+    """The pitch (rad, positive nose down) at which the scan's strongest confident line
+    (:func:`strongest_confident`) is the floor; None if there is none. The IMU's estimate
+    is checked against it (:mod:`pvfilter.improved.imu`)."""
+    strongest = strongest_confident(segments, scores, params)
+    if strongest is None:
         return None
     return float(np.sign(segments.centroids[strongest, 0]) * scores.tilt_rad[strongest])
 

@@ -58,6 +58,10 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "holding the view behind possible floor lines (it shrinks there too)",
         lambda p: _set(p, hold_behind_lines=False),
     ),
+    "no_roll_learning": (
+        "measuring the plane's roll on confident floor lines (the gates keep max_roll_deg)",
+        lambda p: _set(p, learn_roll=False),
+    ),
     "no_line_split": (
         "segmentation by line direction: segments split at range jumps only",
         lambda p: _set(p, line_angle_deg=90.0),
