@@ -32,11 +32,16 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   new, and a level scan puts it back into the view at once. A low top or a cabinet that
   the plane passes over as the robot rocks on a rough floor comes and goes; it is
   structure, not a line sweeping in;
-- beams with no return within range (``+inf``) remember free space up to ``range_max``,
-  once confirmed as above; but a beam without an echo next to a beam that returns on the
-  view or in front of it frees nothing: a dark surface, or one met at grazing incidence,
-  echoes on some beams and some scans only, and its silent beams are dropouts, not space
-  seen free;
+- beams with no return within range (``+inf``) remember free space up to ``range_max``
+  where the view knew nothing; but a beam without an echo next to a beam that returns on
+  the view or in front of it frees nothing: a dark surface, or one met at grazing
+  incidence, echoes on some beams and some scans only, and its silent beams are
+  dropouts, not space seen free. Nor does silence free a surface the view holds: a plane
+  tilted by two or three degrees, too little to show a floor line, meets the floor at a
+  grazing angle that returns no echo on a whole run of beams and hides the wall behind
+  it; taken for free space, the wall would be new when the plane levels and it returns.
+  The surface stays in the view, unconfirmed, until it is forgotten (below), and then a
+  silent beam frees it;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
@@ -239,6 +244,7 @@ class LevelMemory:
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = ranges > current + margin
         silent = no_return & (current != np.inf)
+        lost = None
         if np.count_nonzero(silent):
             # no echo beside a return on the view or in front of it: a dropout of that
             # surface, not space seen free (the first and last beams have one neighbour
@@ -246,7 +252,12 @@ class LevelMemory:
             surface = valid & ~beyond
             silent[1:] &= ~surface[:-1]
             silent[:-1] &= ~surface[1:]
-            beyond |= silent
+            # nor where the view holds a surface: an echo lost (a floor met at a grazing
+            # angle by a plane tilted too little to show a line hides the wall behind it
+            # on a whole run of beams) is not space seen free; the surface stays in the
+            # view, unconfirmed, until it times out (``memory_timeout_s``)
+            lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
+            beyond |= silent & ~lost
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
@@ -262,7 +273,7 @@ class LevelMemory:
             current[settled] = ranges.take(settled)
         current[no_return & take] = np.inf
         ages = view.ages + dt
-        ages[valid | no_return] = 0.0
+        ages[valid | (no_return if lost is None else no_return & ~lost)] = 0.0
         farther[take] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
 

@@ -143,6 +143,25 @@ def test_a_dark_wall_that_echoes_on_a_few_beams_is_kept_as_the_robot_drives_at_i
     assert (removed & echoes).sum() < 0.02 * echoes.sum()  # freed by the silences: 211 of 1,415
 
 
+def test_a_wall_hidden_for_a_while_by_a_silent_grazing_floor_is_not_new_when_it_returns():
+    # a plane tilted by 2-3 deg meets the floor ahead at a grazing angle that returns no
+    # echo at all: the wall ahead falls silent for 0.5 s (five scans, the view counts them
+    # level: no line shows), then returns, 0.3 m nearer for the drive meanwhile
+    def frames():
+        for (scan, _), pitch in drive(event=(10, 8, 0.0)):
+            k = round(scan.stamp / 0.1)
+            wall = (np.abs(scan.angles()) < math.radians(25.0)) & np.isfinite(scan.ranges)
+            hidden = wall & (14 <= k < 19)
+            yield (scan.with_ranges(np.where(hidden, np.inf, scan.ranges)), wall), pitch
+
+    params = ImprovedParams(lidar_height_m=HEIGHT_M)
+    results, on_wall = run(ImprovedPitchVariationFilter(params), frames())
+    removed, wall = np.array([r.removed for r in results]), np.array(on_wall)
+    back = wall[19:26] & np.array([r.scan.valid_mask() | r.removed for r in results[19:26]])
+    assert back.sum() > 300
+    assert (removed[19:26] & back).sum() == 0  # the view freed by the silence: 303 removed
+
+
 def test_a_line_that_holds_still_through_a_long_lean_is_removed_throughout():
     # the floor line ramps in over 3 frames and then stays 2.4 m ahead, ending 0.3 m in
     # front of the wall. A tilted scan does not teach the level view, so the line stays

@@ -214,8 +214,29 @@ def test_no_echo_beside_returns_on_the_view_does_not_free_it():
     for _ in range(5):  # 0.5 s, twice confirm_free_s
         step(memory, dark)
     assert np.isfinite(memory.state.ranges[left]).all()  # dropouts: the wall stays
-    # silent throughout (but for the beam beside the echoes around it): free
-    assert np.isposinf(memory.state.ranges[right[1:-1]]).all()
+    assert (memory.state.ages[left] == 0.0).all()  # and each silent scan confirms it
+
+
+def test_a_surface_gone_silent_is_kept_unconfirmed_until_it_times_out():
+    # a whole run of beams without an echo where the view holds a wall: a floor met at a
+    # grazing angle by a plane tilted too little to show a line hides the wall behind it
+    level, _ = room_scan(noise_m=0.0)
+    ahead = np.flatnonzero(np.abs(level.angles()) < math.radians(20.0))
+    hidden = silent_on(level, ahead)
+    memory = remembered(level)
+    for _ in range(5):  # 0.5 s, twice confirm_free_s: not space seen free
+        step(memory, hidden)
+    np.testing.assert_allclose(memory.state.ranges[ahead], level.ranges[ahead])
+    # unconfirmed (but the two beams beside the echoes around the run: dropouts there)
+    np.testing.assert_allclose(memory.state.ages[ahead[1:-1]], 0.5)
+    for _ in range(11):  # 1.6 s in all, past memory_timeout_s (1.5 s): unknown, then free
+        step(memory, hidden)
+    assert np.isposinf(memory.state.ranges[ahead[1:-1]]).all()
+    # no echo where the view knew nothing frees it at once, as before
+    fresh = LevelMemory()
+    fresh.update(np.full(len(level), np.nan), np.zeros(len(level), bool), None, 0.0, PARAMS, True)
+    step(fresh, hidden)
+    assert np.isposinf(fresh.state.ranges[ahead[1:-1]]).all()
 
 
 def test_a_dark_surface_in_front_of_the_view_settles_though_it_echoes_now_and_then():
