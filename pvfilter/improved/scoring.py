@@ -46,7 +46,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
 6. **A tilt held through a turn in place** (optional, :class:`HeldLine`): a gated line
    that keeps the place of the floor line of the last strong scans in the sensor frame,
    while the sensor turned past what a line fixed in the world could follow, scores at
-   least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new.
+   least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new;
+   unless more than half its points stayed put in the world, or returns lie beyond it:
+   a wall that the turn sweeps through that place keeps it for a scan, and is a wall.
 
 The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
 """
@@ -79,6 +81,8 @@ from pvfilter.improved.segmentation import Segments
 CONFIDENT_SCORE = 0.8  # 1: the scan's own score of a line the IMU is checked against
 COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within the
 # margin) counts this much against a line's share of new points (see the module docstring)
+HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where at most
+# half its points stayed put in the world (the world-static test under a turn)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
@@ -230,6 +234,11 @@ def score_segments(
     # the scan's evidence against a floor line: it stayed put in the world, or returns lie
     # beyond it; asked of every gated segment the IMU may support, else of the scored ones
     asked = gates if attitude is not None else score > 0.0
+    # the segments that keep a held floor line's place are asked too: a wall fixed in the
+    # world that the turn sweeps through that place keeps it for a scan, but stays put
+    kept = None if held is None else _keeps_place(segments, gates, side, tilt, held)
+    if kept is not None:
+        asked = asked | kept
     not_static, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
     score *= not_static
     score[beyond] *= params.up_side_weight
@@ -257,8 +266,8 @@ def score_segments(
         support[beyond] *= params.up_side_weight
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - support), score)
         score[contradict] *= params.up_side_weight
-    if held is not None:
-        kept = _keeps_place(segments, gates, side, tilt, held)
+    if kept is not None:
+        kept &= (not_static >= HELD_NOT_STATIC) & ~beyond
         if np.count_nonzero(kept):
             score = np.where(kept, np.maximum(score, CONFIDENT_SCORE), score)
             scan_score = np.where(kept, np.maximum(scan_score, CONFIDENT_SCORE), scan_score)

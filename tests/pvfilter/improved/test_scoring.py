@@ -281,3 +281,22 @@ def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong
     for other in (HeldLine(1, tilt, 0.0), HeldLine(1, math.radians(8.0), 0.2),
                   HeldLine(-1, math.radians(8.0), 0.0)):  # fmt: skip
         assert score(other).scores.max() == 0.0
+
+
+def test_a_wall_that_a_turn_sweeps_through_a_held_lines_place_does_not_keep_it():
+    # while the sensor turns, a wall fixed in the world passes through the place of the
+    # floor line held in the sensor frame: for a scan it keeps that place, but it stayed
+    # put in the world (the world-static test under a turn)
+    x = HEIGHT_M / math.sin(math.radians(8.0))
+    points = line(x, -1.0, x, 1.0)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
+    nothing_new = np.zeros(len(points), bool)
+    held = HeldLine(1, math.radians(8.0), 0.0)
+
+    def score(static):
+        return score_segments(segments, nothing_new, 0.0, None, PARAMS, static, held=held)
+
+    assert score(Told(False)).scores[0] >= CONFIDENT_SCORE  # nothing told: held
+    stayed = score(Told(True))
+    assert stayed.scores[0] == 0.0 and stayed.new_counts[0] == 0
+    assert stayed.down_side == 0
