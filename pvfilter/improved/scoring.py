@@ -39,10 +39,12 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    IMU does not show the plane tilted down on that side) is weighted like a line on the
    up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
-   Only an IMU that shows the plane tilted beyond its band supports a line: a level
-   estimate cannot tell a tilted plane from a level one, and with a wide band its
-   support would fall on walls that reappear once the robot levels, whose lines would
-   then widen the band further.
+   Only an IMU that shows the plane tilted by at least ``IMU_PLACE_FACTOR`` times its
+   band supports a line: a level estimate cannot tell a tilted plane from a level one,
+   and one tilted barely beyond its band puts the floor anywhere from a metre or two to
+   tens of metres out, where its support would fall on every wall across the travel (and
+   on walls that reappear once the robot levels, whose lines would then widen the band
+   further).
 6. **A tilt held through a turn in place** (optional, :class:`HeldLine`): a gated line
    that keeps the place of the floor line of the last strong scans in the sensor frame,
    while the sensor turned past what a line fixed in the world could follow, scores at
@@ -83,6 +85,10 @@ COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within
 # margin) counts this much against a line's share of new points (see the module docstring)
 HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where at most
 # half its points stayed put in the world (the world-static test under a turn)
+IMU_PLACE_FACTOR = 2.0  # 1: the IMU lends support only where its tilt is at least this
+# many times its error: the floor then lies within a factor of about three in distance
+# (h / sin(p - e) against h / sin(p + e)); at 4 deg +- 3.5 deg it could lie anywhere from
+# 2 m to 30 m ahead, where every wall across the travel would "agree"
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
@@ -438,7 +444,7 @@ def _imu_agreement(
     would need more than the band and ``reach_rad`` together)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
     agree = np.zeros(len(distances), dtype=bool)
-    if attitude.tilted:  # else the IMU cannot tell a tilted plane from a level one
+    if magnitude >= IMU_PLACE_FACTOR * error:  # else the IMU cannot tell where the floor is
         agree = (side == attitude.down_side) & (np.abs(tilt - magnitude) <= error)
         far = distances >= ceiling_min_distance(magnitude + error, params)
         agree |= (side == -attitude.down_side) & far

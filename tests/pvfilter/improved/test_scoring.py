@@ -300,3 +300,20 @@ def test_a_wall_that_a_turn_sweeps_through_a_held_lines_place_does_not_keep_it()
     stayed = score(Told(True))
     assert stayed.scores[0] == 0.0 and stayed.new_counts[0] == 0
     assert stayed.down_side == 0
+
+
+def test_an_imu_tilted_barely_beyond_its_band_lends_no_line_its_support():
+    # at 4 deg +- 3 deg the floor may lie anywhere from 2 m to 14 m ahead: a wall 3.6 m
+    # ahead (the floor's place at 4 deg) that the level view knows gets no support; with
+    # a band of 1.5 deg the IMU puts the floor within a factor of three, and supports it
+    tilt = math.radians(4.0)
+    distance = HEIGHT_M / math.sin(tilt)
+    wall = line(distance, -1.5, distance, 1.5, 60)
+    none_new = np.zeros(60, bool)
+    vague = Attitude(tilt, 0.0, math.radians(3.0))
+    assert vague.tilted
+    _, unsupported = scored(wall, new=none_new, attitude=vague, static=Told(False))
+    assert unsupported.scores[0] == 0.0
+    sure = Attitude(tilt, 0.0, math.radians(1.5))
+    _, supported = scored(wall, new=none_new, attitude=sure, static=Told(False))
+    assert supported.scores[0] == pytest.approx(IMU_SUPPORT)
