@@ -273,7 +273,10 @@ class LevelMemory:
             current[settled] = ranges.take(settled)
         current[no_return & take] = np.inf
         ages = view.ages + dt
-        ages[valid | (no_return if lost is None else no_return & ~lost)] = 0.0
+        confirmed = valid | no_return  # a lost echo confirms nothing
+        if lost is not None:
+            confirmed &= ~lost
+        ages[confirmed] = 0.0
         farther[take] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
 

@@ -242,8 +242,9 @@ def score_segments(
     asked = gates if attitude is not None else score > 0.0
     # the segments that keep a held floor line's place are asked too: a wall fixed in the
     # world that the turn sweeps through that place keeps it for a scan, but stays put
-    kept = None if held is None else _keeps_place(segments, gates, side, tilt, held)
-    if kept is not None:
+    kept = None
+    if held is not None:
+        kept = _keeps_place(segments, gates, side, tilt, held)
         asked = asked | kept
     not_static, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
     score *= not_static
