@@ -79,8 +79,19 @@ def detect_lines(
     elif np.count_nonzero(new_valid):  # only a segment with new points can score
         with_new = np.bincount(segments.labels, new_valid, len(segments)) > 0
         segments = split_at_corners(segments, params, with_new)
+    view_valid = None
+    if held is not None and level_view_m is not None:
+        view_valid = level_view_m.take(segments.beams)
     scores = score_segments(
-        segments, new_valid, scan.time_increment, attitude, params, static, through_valid, held
+        segments,
+        new_valid,
+        scan.time_increment,
+        attitude,
+        params,
+        static,
+        through_valid,
+        held,
+        view_valid,
     )
     scored = np.count_nonzero(scores.scores) > 0
     if scored:

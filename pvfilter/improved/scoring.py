@@ -51,6 +51,10 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new;
    unless more than half its points stayed put in the world, or returns lie beyond it:
    a wall that the turn sweeps through that place keeps it for a scan, and is a wall.
+   Nor does a line most of whose points lie on the level view's surface (more than
+   ``HELD_ON_VIEW``): where the turn alone moves no return along its beam, the
+   world-static test cannot tell, but a wall stands where the view has it, and a floor
+   line held through the turn lies in front of the view's surface.
 
 The score is then the segment's ``P(C_pv)``: it is removed when the score exceeds ``p_th``.
 """
@@ -85,6 +89,13 @@ COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within
 # margin) counts this much against a line's share of new points (see the module docstring)
 HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where at most
 # half its points stayed put in the world (the world-static test under a turn)
+HELD_ON_VIEW = 2.0 / 3.0  # 1: ... nor where more than two thirds of its points lie on the
+# level view's surface (within ON_VIEW_TOLERANCE_M): a wall that the turn brings there
+# stands where the view has it, while a floor line held through the turn lies in front of
+# the view's surface, or where the view knows nothing (one that meets furniture just
+# behind it, within the tolerance at its ends, has up to about half its points on it)
+ON_VIEW_TOLERANCE_M = 0.03  # m: a return this near the level view (plus 1 % of its range)
+# lies on the view's surface: range noise and the view's own error after a turn
 IMU_PLACE_FACTOR = 2.0  # 1: the IMU lends support only where its tilt is at least this
 # many times its error: the floor then lies within a factor of about three in distance
 # (h / sin(p - e) against h / sin(p + e)); at 4 deg +- 3.5 deg it could lie anywhere from
@@ -192,6 +203,7 @@ def score_segments(
     static: WorldStatic | None = None,
     through_valid: np.ndarray | None = None,
     held: HeldLine | None = None,
+    view_valid: np.ndarray | None = None,
 ) -> SegmentScores:
     """Score every segment (see the module docstring).
 
@@ -205,6 +217,8 @@ def score_segments(
         through_valid: per valid point, it lies beyond the level view (None: none does).
         held: the floor line of a tilt held through a turn in place (None: none): a
             segment that keeps its place scores at least ``CONFIDENT_SCORE``.
+        view_valid: per valid point, where the level view lies along its beam, m (NaN:
+            unknown, inf: free; None: unknown everywhere).
     """
     k, labels = len(segments), segments.labels
     any_new = np.count_nonzero(new_valid) > 0  # (count_nonzero: any() without Python layers)
@@ -275,6 +289,8 @@ def score_segments(
         score[contradict] *= params.up_side_weight
     if kept is not None:
         kept &= (not_static >= HELD_NOT_STATIC) & ~beyond
+        if view_valid is not None and np.count_nonzero(kept):
+            kept &= _on_view_share(segments, view_valid) <= HELD_ON_VIEW
         if np.count_nonzero(kept):
             score = np.where(kept, np.maximum(score, CONFIDENT_SCORE), score)
             scan_score = np.where(kept, np.maximum(scan_score, CONFIDENT_SCORE), scan_score)
@@ -286,6 +302,14 @@ def score_segments(
     return SegmentScores(
         score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
     )
+
+
+def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:
+    """Per segment, the share of its points that lie on the level view's surface (within
+    ``ON_VIEW_TOLERANCE_M`` plus 1 % of the range)."""
+    ranges = segments.ranges
+    on_view = np.abs(view_valid - ranges) <= ON_VIEW_TOLERANCE_M + 0.01 * ranges  # NaN: no
+    return np.bincount(segments.labels, on_view, len(segments)) / np.maximum(segments.sizes, 1)
 
 
 def _keeps_place(

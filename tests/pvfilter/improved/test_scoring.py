@@ -12,8 +12,10 @@ from pvfilter.improved.imu import Attitude
 from pvfilter.improved.scoring import (
     COINCIDENT_WEIGHT,
     CONFIDENT_SCORE,
+    HELD_ON_VIEW,
     HELD_TILT_TOLERANCE,
     IMU_SUPPORT,
+    ON_VIEW_TOLERANCE_M,
     HeldLine,
     line_pitch,
     score_segments,
@@ -300,6 +302,36 @@ def test_a_wall_that_a_turn_sweeps_through_a_held_lines_place_does_not_keep_it()
     stayed = score(Told(True))
     assert stayed.scores[0] == 0.0 and stayed.new_counts[0] == 0
     assert stayed.down_side == 0
+
+
+def test_a_wall_on_the_level_view_does_not_keep_a_held_lines_place():
+    # the turn brings a wall into the held floor line's place, and the world-static test
+    # cannot tell (the turn alone moves no return along its beam), but the wall stands
+    # where the level view has it; a floor line held through the turn lies in front of
+    # the view's surface
+    x = HEIGHT_M / math.sin(math.radians(8.0))
+    points = line(x, -1.0, x, 1.0)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
+    nothing_new = np.zeros(len(points), bool)
+    held = HeldLine(1, math.radians(8.0), 0.0)
+    ranges = np.hypot(points[:, 0], points[:, 1])
+
+    def score(view_m):
+        return score_segments(
+            segments, nothing_new, 0.0, None, PARAMS, Told(False), held=held, view_valid=view_m
+        )
+
+    on_view = score(ranges + 0.5 * ON_VIEW_TOLERANCE_M)
+    assert on_view.scores[0] == 0.0 and on_view.down_side == 0
+    furniture_behind = score(ranges + 0.3)
+    assert furniture_behind.scores[0] >= CONFIDENT_SCORE
+    unknown = score(np.full(len(points), np.nan))
+    assert unknown.scores[0] >= CONFIDENT_SCORE
+    # a line whose ends meet the view (furniture just behind its middle) keeps the place
+    # while at most HELD_ON_VIEW of its points lie on it
+    ends = np.abs(points[:, 1]) > 0.5
+    assert HELD_ON_VIEW > np.mean(ends)
+    assert score(np.where(ends, ranges, ranges + 0.3)).scores[0] >= CONFIDENT_SCORE
 
 
 def test_an_imu_tilted_barely_beyond_its_band_lends_no_line_its_support():
