@@ -285,18 +285,23 @@ def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong
         assert score(other).scores.max() == 0.0
 
 
-def test_a_wall_that_a_turn_sweeps_through_a_held_lines_place_does_not_keep_it():
-    # while the sensor turns, a wall fixed in the world passes through the place of the
-    # floor line held in the sensor frame: for a scan it keeps that place, but it stayed
-    # put in the world (the world-static test under a turn)
+def _wall_in_the_held_place(**kwargs):
+    """Score a wall of no new points where a held 8 deg tilt puts its floor line ahead (the
+    keyword arguments go to :func:`score_segments`); and the wall's points."""
     x = HEIGHT_M / math.sin(math.radians(8.0))
     points = line(x, -1.0, x, 1.0)
     segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
     nothing_new = np.zeros(len(points), bool)
     held = HeldLine(1, math.radians(8.0), 0.0)
+    return score_segments(segments, nothing_new, 0.0, None, PARAMS, held=held, **kwargs), points
 
+
+def test_a_wall_that_a_turn_sweeps_through_a_held_lines_place_does_not_keep_it():
+    # while the sensor turns, a wall fixed in the world passes through the place of the
+    # floor line held in the sensor frame: for a scan it keeps that place, but it stayed
+    # put in the world (the world-static test under a turn)
     def score(static):
-        return score_segments(segments, nothing_new, 0.0, None, PARAMS, static, held=held)
+        return _wall_in_the_held_place(static=static)[0]
 
     assert score(Told(False)).scores[0] >= CONFIDENT_SCORE  # nothing told: held
     stayed = score(Told(True))
@@ -309,17 +314,11 @@ def test_a_wall_on_the_level_view_does_not_keep_a_held_lines_place():
     # cannot tell (the turn alone moves no return along its beam), but the wall stands
     # where the level view has it; a floor line held through the turn lies in front of
     # the view's surface
-    x = HEIGHT_M / math.sin(math.radians(8.0))
-    points = line(x, -1.0, x, 1.0)
-    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
-    nothing_new = np.zeros(len(points), bool)
-    held = HeldLine(1, math.radians(8.0), 0.0)
+    _, points = _wall_in_the_held_place()
     ranges = np.hypot(points[:, 0], points[:, 1])
 
     def score(view_m):
-        return score_segments(
-            segments, nothing_new, 0.0, None, PARAMS, Told(False), held=held, view_valid=view_m
-        )
+        return _wall_in_the_held_place(static=Told(False), view_valid=view_m)[0]
 
     on_view = score(ranges + 0.5 * ON_VIEW_TOLERANCE_M)
     assert on_view.scores[0] == 0.0 and on_view.down_side == 0
