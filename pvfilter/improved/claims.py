@@ -19,6 +19,11 @@ from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
 OUTWARD = np.array([-1, 1])  # beam steps: before a line's first point, after its last
+CLAIMED_NOT_NEW_WEIGHT = 0.5  # 1: a point a line claims that is not itself new (on the
+# level view's surface, beyond it, or where the view knows nothing) takes this share of
+# the line's score: the foot of the wall a floor line runs into lies on the line as well
+# as the floor does (as a point on the view counts half against a line's share of new
+# points, scoring.COINCIDENT_WEIGHT)
 
 
 def extension_claims(
@@ -252,15 +257,22 @@ def best_claims(
     tilt_rad: np.ndarray | None = None,
     down_side: int = 0,
     time_increment: float = 0.0,
+    new_valid: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per valid point: the highest-scoring line that takes it in, and that score.
 
     A point belongs to its own segment, and may be claimed by the lines with a score:
     at their ends, and with ``spread`` anywhere on them and, given the lines' tilts, on
-    the other half of a floor line cut by a full turn's seam. A claimed point takes the line's
-    own score, so a piece of the floor line that is new only in part (a floor line that
-    settles in front of the wall behind it) carries the rest of it as far as its evidence
-    goes, and a line the scan doubts claims nothing it would remove. At a threshold
+    the other half of a floor line cut by a full turn's seam. A claimed point that is new
+    takes the line's own score, so a piece of the floor line that is new only in part
+    carries the rest of its new points as far as its evidence goes, and a line the scan
+    doubts claims nothing it would remove. A claimed point that is not new (on the level
+    view's surface, beyond it, or where the view knows nothing) takes
+    ``CLAIMED_NOT_NEW_WEIGHT`` of it: there the floor line settles in front of the wall
+    behind it, but the foot of that wall, and of the wall the line runs into, lies on the
+    line just as well (on the fourth independent generator's sequences such points were
+    pitch variation 45 % of the time, new ones 99 %; in the simulator's stress episodes 57
+    and 99.7 %). At a threshold
     ``p_th`` a point is removed exactly when the best claim's score exceeds ``p_th``; the
     best claimer is then detected, and the point joins its cluster.
 
@@ -272,9 +284,11 @@ def best_claims(
             claims).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         time_increment: the scan's time between beams, s.
+        new_valid: per valid point, it is new (None: every claim at the line's score);
+            a claimed point that is not new takes ``CLAIMED_NOT_NEW_WEIGHT`` of it.
 
     Returns:
-        The owning segment per point, and its score.
+        The owning segment per point, and its score (for a claimed point, its claim's).
     """
     owner = segments.labels.copy()
     lines = indices(score > 0.0)
@@ -285,8 +299,13 @@ def best_claims(
             pairs.append(seam_claims(segments, lines, tilt_rad, down_side, time_increment, params))
     points = np.concatenate([p for p, _ in pairs])
     claimer = np.concatenate([c for _, c in pairs])
-    order = score[claimer].argsort(kind="stable")  # the best claim is written last
-    points, claimer = points[order], claimer[order]
-    better = score[claimer] > score[owner[points]]
+    claim = score[claimer]
+    if new_valid is not None:  # a point on the view's surface is the wall's as much
+        claim = np.where(new_valid.take(points), claim, CLAIMED_NOT_NEW_WEIGHT * claim)
+    order = claim.argsort(kind="stable")  # the best claim is written last
+    points, claimer, claim = points[order], claimer[order], claim[order]
+    best = score[owner]
+    better = claim > best[points]
     owner[points[better]] = claimer[better]
-    return owner, score[owner]
+    best[points[better]] = claim[better]
+    return owner, best

@@ -102,6 +102,7 @@ def detect_lines(
             scores.tilt_rad,
             scores.down_side,
             scan.time_increment,
+            new_valid,
         )
     else:  # nothing scored (most scans): every point stays in its segment, unclaimed
         owner, best = segments.labels.copy(), np.zeros(len(segments.labels))

@@ -14,13 +14,15 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    fit's own error explain. A segment that fails gets no score.
 3. **The two sides**: a tilted plane goes down on one side of the sensor and up on the
    other. The down side is the side of the strongest line (the gated segment with the
-   most new points, at least ``down_side_min_new``), or the IMU's; unless the strongest
-   line of the other side, taken for the floor, explains both lines where the strongest,
-   taken for the floor, cannot (:func:`_down_side`). On the up side there is only the
-   ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the steepest tilt the
-   down side's strong lines imply (a rotating sweep measures them at different tilts): a
-   nearer line there is furniture met at another height, and its score is multiplied by
-   ``up_side_weight``. A scan with no strong line and no IMU shows
+   most new points, at least ``down_side_min_new``; where no segment alone has that many,
+   a segment counts all the new points of the scan that lie on its line: a full turn's
+   seam, chair legs or stray returns cut one floor line into pieces), or the IMU's;
+   unless the strongest line of the other side, taken for the floor, explains both lines
+   where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
+   there is only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the
+   steepest tilt the down side's strong lines imply (a rotating sweep measures them at
+   different tilts): a nearer line there is furniture met at another height, and its
+   score is multiplied by ``up_side_weight``. A scan with no strong line and no IMU shows
    no pitch event at all (a tilted plane meets the floor along a whole line): all its
    lines are weighted so, as short new structure in clutter most often is.
 4. **Length, the world, what lies beyond**: a floor line spans the open space, so a
@@ -248,6 +250,7 @@ def score_segments(
     gates = geometry_gates(segments, tilt, distances, time_increment, params)
     score = np.where(gates, share, 0.0)
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
+    new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
         score *= np.minimum(length / params.line_length_m, 1.0)
@@ -302,6 +305,29 @@ def score_segments(
     return SegmentScores(
         score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
     )
+
+
+def _pooled_new_counts(
+    segments: Segments,
+    gates: np.ndarray,
+    new_counts: np.ndarray,
+    new_valid: np.ndarray,
+    params: ImprovedParams,
+) -> np.ndarray:
+    """Per segment, the new points of its line: its own, or, where no segment alone has
+    ``down_side_min_new``, all the new points of the scan that lie on its line if more.
+
+    All floor hits of one scan lie on one straight line: where the seam of a full turn,
+    a chair leg or a stray return cut it into pieces, each piece holds too few new points
+    to show the pitch event that the line as a whole shows."""
+    pieces = gates & (new_counts > 0)
+    if np.count_nonzero(pieces) < 2:
+        return new_counts
+    if float(new_counts[pieces].max()) >= params.down_side_min_new:
+        return new_counts
+    points, line = spread_claims(segments, indices(pieces), params)
+    on_line = np.bincount(line, new_valid.take(points), len(segments))
+    return np.where(pieces, np.maximum(new_counts, on_line), new_counts)
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:

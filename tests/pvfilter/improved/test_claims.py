@@ -7,7 +7,12 @@ import math
 import numpy as np
 
 from pvfilter.improved import ImprovedParams, segment_scan
-from pvfilter.improved.claims import best_claims, extension_claims, spread_claims
+from pvfilter.improved.claims import (
+    CLAIMED_NOT_NEW_WEIGHT,
+    best_claims,
+    extension_claims,
+    spread_claims,
+)
 from pvfilter.improved.geometry import floor_distance, implied_tilt
 
 from .conftest import HEIGHT_M
@@ -89,6 +94,30 @@ def test_a_scored_piece_of_a_floor_line_claims_the_rest_of_it_at_its_own_score()
     no_spread = dataclasses.replace(PARAMS, spread=False)
     _, best = best_claims(segments, score, no_spread)
     assert (best[on_line] == 0.7).sum() < on_line.sum() / 2
+
+
+def test_a_claimed_point_that_is_not_new_takes_part_of_the_lines_score():
+    # the scored middle of a floor line claims its ends; where an end is new (in space
+    # the level view saw free) it takes the line's score, where it is not (on the view's
+    # surface: the foot of the wall behind lies on the line as well) a part of it, and
+    # the line's own points keep the whole score whether new or not
+    middle = line(1.5, -0.2, 1.5, 0.2, 12)
+    ends = (line(1.5, -1.2, 1.5, -0.6, 20), line(1.5, 0.6, 1.5, 1.2, 20))
+    segments = segments_of(middle, *ends)
+    score = np.zeros(len(segments))
+    score[segments.labels[0]] = 0.8
+    new = np.ones(len(segments.points), bool)
+    new[12:32] = False  # one end on the view
+    new[0:3] = False  # and three of the middle's own points
+    owner, best = best_claims(segments, score, PARAMS, new_valid=new)
+    assert (owner == segments.labels[0]).all()
+    assert (best[:12] == 0.8).all()
+    assert (best[12:32] == CLAIMED_NOT_NEW_WEIGHT * 0.8).all()
+    assert (best[32:] == 0.8).all()
+    # an end's own segment that scores above the weighted claim keeps its points
+    score[segments.labels[12]] = 0.5
+    owner, best = best_claims(segments, score, PARAMS, new_valid=new)
+    assert (owner[12:32] == segments.labels[12]).all() and (best[12:32] == 0.5).all()
 
 
 def seam_scan(later_tilt_deg: float, ring: bool = True):

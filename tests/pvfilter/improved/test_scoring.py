@@ -89,6 +89,24 @@ def test_a_strong_short_piece_takes_the_length_of_the_line_its_collinear_fragmen
         assert result.scores[at(segments, 0)] < 0.6
 
 
+def test_a_floor_line_cut_into_pieces_shows_the_pitch_event_with_their_new_points_together():
+    # a floor line 2 m ahead that two chair legs cut into three pieces of 12 new points:
+    # no piece alone has down_side_min_new (20), the line has 36
+    pieces = [line(2.0, y0, 2.0, y0 + 0.3, 12) for y0 in (-0.8, -0.2, 0.4)]
+    legs = [line(1.0, y, 1.0, y + 0.02, 3) for y in (-0.4, 0.2)]
+    parts = (pieces[0], legs[0], pieces[1], legs[1], pieces[2])
+    new = np.concatenate([np.full(len(p), len(p) == 12) for p in parts])
+    segments, result = scored(*parts, new=new)
+    assert len({at(segments, i) for i in (0, 15, 30)}) == 3  # three segments
+    assert result.down_side == 1
+    assert result.scores[at(segments, 15)] == pytest.approx(1.0)
+    assert result.new_counts[at(segments, 15)] == 36
+    # one piece alone shows no pitch event: its score is weighted as in clutter
+    segments, alone = scored(pieces[1])
+    assert alone.down_side == 0
+    assert alone.scores[0] <= PARAMS.up_side_weight
+
+
 def test_a_line_on_the_up_side_nearer_than_a_ceiling_can_be_is_weighted_down():
     floor = line(1.44, -1.5, 1.44, 1.5, 60)  # the strongest line: 10 deg, floor ahead
     furniture = line(-1.0, -0.5, -1.0, 0.5, 30)  # behind, 1 m: no ceiling that low
