@@ -19,11 +19,6 @@ from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
 OUTWARD = np.array([-1, 1])  # beam steps: before a line's first point, after its last
-CLAIMED_NOT_NEW_WEIGHT = 0.5  # 1: a point a line claims that is not itself new (on the
-# level view's surface, beyond it, or where the view knows nothing) takes this share of
-# the line's score: the foot of the wall a floor line runs into lies on the line as well
-# as the floor does (as a point on the view counts half against a line's share of new
-# points, scoring.COINCIDENT_WEIGHT)
 
 
 def extension_claims(
@@ -268,7 +263,7 @@ def best_claims(
     carries the rest of its new points as far as its evidence goes, and a line the scan
     doubts claims nothing it would remove. A claimed point that is not new (on the level
     view's surface, beyond it, or where the view knows nothing) takes
-    ``CLAIMED_NOT_NEW_WEIGHT`` of it: there the floor line settles in front of the wall
+    ``claimed_not_new_weight`` of it: there the floor line settles in front of the wall
     behind it, but the foot of that wall, and of the wall the line runs into, lies on the
     line just as well (on the fourth independent generator's sequences such points were
     pitch variation 45 % of the time, new ones 99 %; in the simulator's stress episodes 57
@@ -279,13 +274,13 @@ def best_claims(
     Args:
         segments: the segments.
         score: per segment, its score.
-        params: ``spread`` and the claims' tolerances.
+        params: ``spread``, ``claimed_not_new_weight`` and the claims' tolerances.
         tilt_rad: per segment, the tilt that puts the floor on its line (None: no seam
             claims).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         time_increment: the scan's time between beams, s.
         new_valid: per valid point, it is new (None: every claim at the line's score);
-            a claimed point that is not new takes ``CLAIMED_NOT_NEW_WEIGHT`` of it.
+            a claimed point that is not new takes ``claimed_not_new_weight`` of it.
 
     Returns:
         The owning segment per point, and its score (for a claimed point, its claim's).
@@ -301,7 +296,8 @@ def best_claims(
     claimer = np.concatenate([c for _, c in pairs])
     claim = score[claimer]
     if new_valid is not None:  # a point on the view's surface is the wall's as much
-        claim = np.where(new_valid.take(points), claim, CLAIMED_NOT_NEW_WEIGHT * claim)
+        weight = params.claimed_not_new_weight
+        claim = np.where(new_valid.take(points), claim, weight * claim)
     order = claim.argsort(kind="stable")  # the best claim is written last
     points, claimer, claim = points[order], claimer[order], claim[order]
     best = score[owner]

@@ -113,8 +113,14 @@ class ImprovedParams:
             while the points stay on it, beams (at 0.5° between beams, as ``min_points``).
         extend_tolerance_m: distance from the line within which a point still extends it,
             m (plus 1 % of the range).
-        spread: points anywhere on a scored line join it, at its score (all floor hits
-            of one scan lie on one line).
+        spread: all floor hits of one scan lie on one line: points anywhere on a scored
+            line join it, and where no segment alone has ``down_side_min_new`` new points,
+            a segment counts the new points of all the points on its line.
+        claimed_not_new_weight: the share of a line's score that a point it claims (at
+            its ends or along it) takes where the point is not itself new (on the level
+            view's surface, beyond it, or where the view knows nothing), 1: the foot of
+            the wall behind a floor line lies on the line as well as the floor does
+            (1: every claim at the line's score).
         up_side_weight: score factor of lines on the up side of a tilted scan plane that
             are too near to be its ceiling (furniture met at another height, table
             undersides), 1 (1: no side cue).
@@ -155,6 +161,7 @@ class ImprovedParams:
     extend_beams: int = 10  # beams
     extend_tolerance_m: float = 0.03  # m
     spread: bool = True
+    claimed_not_new_weight: float = 0.5  # 1
     up_side_weight: float = 0.3  # 1
     down_side_min_new: int = 20  # points
     p_th: float = 0.5  # 1
@@ -190,6 +197,13 @@ class ImprovedParams:
         check_number("line_length_m", self.line_length_m, lower=0.0, unit="m", closed=True)
         check_number("extend_tolerance_m", self.extend_tolerance_m, lower=0.0, closed=True)
         check_number("up_side_weight", self.up_side_weight, lower=0.0, upper=1.0, closed=True)
+        check_number(
+            "claimed_not_new_weight",
+            self.claimed_not_new_weight,
+            lower=0.0,
+            upper=1.0,
+            closed=True,
+        )
         check_number("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
         check_number(
             "imu_angle_error_deg", self.imu_angle_error_deg, lower=0.0, upper=90.0, closed=True

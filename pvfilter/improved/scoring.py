@@ -320,6 +320,8 @@ def _pooled_new_counts(
     All floor hits of one scan lie on one straight line: where the seam of a full turn,
     a chair leg or a stray return cut it into pieces, each piece holds too few new points
     to show the pitch event that the line as a whole shows."""
+    if not params.spread:
+        return new_counts
     pieces = gates & (new_counts > 0)
     if np.count_nonzero(pieces) < 2:
         return new_counts

@@ -75,7 +75,14 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         lambda p: _set(p, up_side_weight=1.0),
     ),
     "no_extension": ("line extension at the ends", lambda p: _set(p, extend_beams=0)),
-    "no_spread": ("spreading a line over the points along it", lambda p: _set(p, spread=False)),
+    "no_spread": (
+        "spreading a line over the points along it (and a cut line's new points together)",
+        lambda p: _set(p, spread=False),
+    ),
+    "no_claim_weight": (
+        "half the line's score for a claimed point that is not new (all at the line's)",
+        lambda p: _set(p, claimed_not_new_weight=1.0),
+    ),
     "no_settle": (
         "settling the view after max_event_s",
         lambda p: _set(p, max_event_s=float("inf")),

@@ -65,6 +65,7 @@ SPACE: tuple[Dimension, ...] = (
     Dimension("min_points", 3, 12, integer=True),
     Dimension("extend_tolerance_m", 0.02, 0.15),
     Dimension("up_side_weight", 0.0, 1.0),
+    Dimension("claimed_not_new_weight", 0.0, 1.0),
     Dimension("line_length_m", 0.3, 1.5),
     Dimension("confirm_free_s", 0.1, 0.6),
     Dimension("association_m", 0.1, 0.5),

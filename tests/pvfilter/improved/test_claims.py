@@ -7,12 +7,7 @@ import math
 import numpy as np
 
 from pvfilter.improved import ImprovedParams, segment_scan
-from pvfilter.improved.claims import (
-    CLAIMED_NOT_NEW_WEIGHT,
-    best_claims,
-    extension_claims,
-    spread_claims,
-)
+from pvfilter.improved.claims import best_claims, extension_claims, spread_claims
 from pvfilter.improved.geometry import floor_distance, implied_tilt
 
 from .conftest import HEIGHT_M
@@ -112,7 +107,7 @@ def test_a_claimed_point_that_is_not_new_takes_part_of_the_lines_score():
     owner, best = best_claims(segments, score, PARAMS, new_valid=new)
     assert (owner == segments.labels[0]).all()
     assert (best[:12] == 0.8).all()
-    assert (best[12:32] == CLAIMED_NOT_NEW_WEIGHT * 0.8).all()
+    assert (best[12:32] == PARAMS.claimed_not_new_weight * 0.8).all()
     assert (best[32:] == 0.8).all()
     # an end's own segment that scores above the weighted claim keeps its points
     score[segments.labels[12]] = 0.5
