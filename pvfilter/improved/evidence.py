@@ -20,6 +20,9 @@ from pvfilter.improved.motion import Motion
 
 STANDING_PITCH_CHANGE = math.radians(0.5)  # rad: the least a standing robot's pitch
 # changes over the world-static baseline while a pitch event lasts (see WorldStatic)
+STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of the same
+# surface lies (range noise of two measurements, plus the motion's or the level view's
+# error; plus 1 % of the range): the world-static test, and a return on the level view
 MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
 # test does not tell (a grazing beam slides along its surface)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far

@@ -35,6 +35,7 @@ from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
 from pvfilter.improved.evidence import (
+    STATIC_TOLERANCE_M,
     RecentScans,
     WorldStatic,
     free_space_evidence,
@@ -56,8 +57,6 @@ from pvfilter.stamps import stamp_went_back
 STATIC_BASELINE_S = 0.3  # s: the world-static test compares with the scan this long ago
 SAME_INSTANT_S = 1e-9  # s: stamps closer than this are one instant (no scanner stamps
 # scans a nanosecond apart; a rate over a shorter step overflows)
-STATIC_TOLERANCE_M = 0.03  # m: how near its prediction a static return lies (range noise
-# of two scans, plus the motion's error; plus 1 % of the range)
 
 
 def blind_margin_m(coasted_s: float) -> float:

@@ -118,9 +118,9 @@ class ImprovedParams:
             a segment counts the new points of all the points on its line.
         claimed_not_new_weight: the share of a line's score that a point it claims (at
             its ends or along it) takes where the point is not itself new (on the level
-            view's surface, beyond it, or where the view knows nothing), 1: the foot of
-            the wall behind a floor line lies on the line as well as the floor does
-            (1: every claim at the line's score).
+            view's surface, beyond it, or where the view knows nothing), 1 (1: every
+            claim at the line's score): the foot of the wall behind a floor line lies on
+            the line as well as the floor does.
         up_side_weight: score factor of lines on the up side of a tilted scan plane that
             are too near to be its ceiling (furniture met at another height, table
             undersides), 1 (1: no side cue).

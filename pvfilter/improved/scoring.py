@@ -70,7 +70,7 @@ import numpy as np
 
 from pvfilter.improved.beams import indices
 from pvfilter.improved.claims import spread_claims
-from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, WorldStatic
+from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, STATIC_TOLERANCE_M, WorldStatic
 from pvfilter.improved.geometry import (
     TURN_TOLERANCE,
     axle_distances,
@@ -92,12 +92,10 @@ COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within
 HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where at most
 # half its points stayed put in the world (the world-static test under a turn)
 HELD_ON_VIEW = 2.0 / 3.0  # 1: ... nor where more than two thirds of its points lie on the
-# level view's surface (within ON_VIEW_TOLERANCE_M): a wall that the turn brings there
+# level view's surface (within STATIC_TOLERANCE_M): a wall that the turn brings there
 # stands where the view has it, while a floor line held through the turn lies in front of
 # the view's surface, or where the view knows nothing (one that meets furniture just
 # behind it, within the tolerance at its ends, has up to about half its points on it)
-ON_VIEW_TOLERANCE_M = 0.03  # m: a return this near the level view (plus 1 % of its range)
-# lies on the view's surface: range noise and the view's own error after a turn
 IMU_PLACE_FACTOR = 2.0  # 1: the IMU lends support only where its tilt is at least this
 # many times its error: the floor then lies within a factor of about three in distance
 # (h / sin(p - e) against h / sin(p + e)); at 4 deg +- 3.5 deg it could lie anywhere from
@@ -334,9 +332,9 @@ def _pooled_new_counts(
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:
     """Per segment, the share of its points that lie on the level view's surface (within
-    ``ON_VIEW_TOLERANCE_M`` plus 1 % of the range)."""
+    :data:`~pvfilter.improved.evidence.STATIC_TOLERANCE_M` plus 1 % of the range)."""
     ranges = segments.ranges
-    on_view = np.abs(view_valid - ranges) <= ON_VIEW_TOLERANCE_M + 0.01 * ranges  # NaN: no
+    on_view = np.abs(view_valid - ranges) <= STATIC_TOLERANCE_M + 0.01 * ranges  # NaN: no
     return np.bincount(segments.labels, on_view, len(segments)) / np.maximum(segments.sizes, 1)
 
 

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams, segment_scan
+from pvfilter.improved.evidence import STATIC_TOLERANCE_M
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.scoring import (
     COINCIDENT_WEIGHT,
@@ -15,7 +16,6 @@ from pvfilter.improved.scoring import (
     HELD_ON_VIEW,
     HELD_TILT_TOLERANCE,
     IMU_SUPPORT,
-    ON_VIEW_TOLERANCE_M,
     HeldLine,
     line_pitch,
     score_segments,
@@ -338,7 +338,7 @@ def test_a_wall_on_the_level_view_does_not_keep_a_held_lines_place():
     def score(view_m):
         return _wall_in_the_held_place(static=Told(False), view_valid=view_m)[0]
 
-    on_view = score(ranges + 0.5 * ON_VIEW_TOLERANCE_M)
+    on_view = score(ranges + 0.5 * STATIC_TOLERANCE_M)
     assert on_view.scores[0] == 0.0 and on_view.down_side == 0
     furniture_behind = score(ranges + 0.3)
     assert furniture_behind.scores[0] >= CONFIDENT_SCORE
