@@ -72,6 +72,8 @@ def extension_claims(
     if inside is not None:
         on &= inside
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
+    if not np.count_nonzero(on[:, 0]):  # the point next to each end is off: none joins
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     # a point of another segment that lies nearer that segment's own line, by more than
     # the scatter of its points about it, is the wall the line runs into: at the corner
     # both lines pass within the tolerance of its points

@@ -175,24 +175,22 @@ class WorldStatic:
         normal_x, normal_y = -np.sin(angle), np.cos(angle)
         facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
         toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
-        # how far a static return moved along its beam, m; a beam along its surface
-        # (facing 0) never tells, so its quotient is never used: 0 there, without the cost
-        # of an errstate to silence the division by zero
-        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing != 0.0)
+        facing_ok = np.abs(facing) > MIN_FACING
+        # how far a static return moved along its beam, m, where the beam faces its surface;
+        # 0 at grazing incidence, where the quotient divides by nearly 0 and means nothing
+        # (there only the standing sensor's pitch test below tells), and without the cost
+        # of an errstate to silence a division by zero
+        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_m + 0.01 * ranges
-        facing_ok = np.abs(facing) > MIN_FACING
-        telling = (np.abs(moved) > 2.0 * tolerance) & facing_ok
+        twice = 2.0 * tolerance  # farther than this tells
+        telling = (np.abs(moved) > twice) & facing_ok
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
-            stood = math.hypot(since.tx_m, since.ty_m) <= 2.0 * tolerance
-            pitch_tells = stood & (floor_shift_m > 2.0 * tolerance) & ~np.isnan(earlier)
-            # the sensor stood, so no return moved far; at grazing incidence the quotient
-            # above divides by nearly 0 and means nothing: take 0 there
-            moved = np.where(facing_ok, moved, 0.0)
-            telling |= pitch_tells
+            stood = math.hypot(since.tx_m, since.ty_m) <= twice
+            telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
-            telling &= np.abs(earlier - self.previous_ranges.take(beams)) > 2.0 * tolerance
+            telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
 

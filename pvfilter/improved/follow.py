@@ -148,6 +148,8 @@ class FloorFollower:
             return None
         followed &= np.sign(segments.centroids[:, 0]) == latest.side
         followed &= np.abs(scores.tilt_rad - latest.tilt_rad) <= reach
+        if not np.count_nonzero(followed):  # none on the line's side, within its reach
+            return None
         # where the earliest line would lie now had it stayed put in the world: moved
         # along x by the sensor's travel, turned back by its turn
         since = earliest.pose.inverse().then(pose)

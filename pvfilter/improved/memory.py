@@ -159,13 +159,17 @@ class LevelMemory:
         beams = layout.beam_at(x, y)
         # the moved points, by their beams; each beam's nearest range is its view already
         order, nearest = nearest_by_beam(beams, ranges, layout)
-        target = beams.take(order)
-        ages = np.empty(layout.count)
-        ages.fill(np.inf)  # (np.full costs a Python-level call)
-        view = LevelView.seen(nearest, ages)
-        for mine, theirs in zip(_carried(view), _carried(state), strict=True):
-            mine[target] = theirs.take(order)
-        _fill_single_holes(view)
+        # per beam, the remembered beam whose values it carries on (-1: none); worked out
+        # first, so that each of the values a beam carries is gathered once
+        source = np.empty(layout.count, dtype=np.intp)
+        source.fill(-1)  # (np.full costs a Python-level call)
+        source[beams.take(order)] = order
+        _fill_single_holes(nearest, source)
+        view = LevelView(nearest, *(values.take(source) for values in _carried(state)))
+        unseen = indices(source < 0)  # (mostly none: on a full turn, double holes only)
+        if unseen.size:  # no point landed there or beside it: the view knows nothing
+            for values, nothing in zip(_carried(view), _NOTHING, strict=True):
+                values[unseen] = nothing
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
         return view
@@ -323,28 +327,34 @@ def nearest_by_beam(
     return order, nearest
 
 
-def _fill_single_holes(view: LevelView) -> None:
-    """Give beams that no remembered point landed on their nearer neighbour's values."""
-    level = view.ranges
-    hole = indices(np.isnan(level))
-    if hole.size == 0 or hole.size == len(level):
+def _fill_single_holes(ranges: np.ndarray, source: np.ndarray) -> None:
+    """Give beams that no remembered point landed on their nearer neighbour's range and
+    source (in place; ``ranges``: NaN where no point landed, ``source``: per beam, the
+    remembered beam whose values it carries on)."""
+    hole = indices(np.isnan(ranges))
+    if hole.size == 0 or hole.size == len(ranges):
         return
     # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
     # (gathers by take: cheaper than indexing with arrays this small)
     left, right = hole - 1, hole + 1
-    if right[-1] == len(level):  # holes are ascending: only the last can be beam n - 1
+    if right[-1] == len(ranges):  # holes are ascending: only the last can be beam n - 1
         right[-1] = 0
-    on_left, on_right = level.take(left), level.take(right)
+    on_left, on_right = ranges.take(left), ranges.take(right)
     take_left = ~(np.isnan(on_left) | (on_right < on_left))
-    source = np.where(take_left, left, right)
-    value = level.take(source)
+    neighbour = np.where(take_left, left, right)
+    value = ranges.take(neighbour)
     fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
-        hole, source = hole.take(fill), source.take(fill)
-    for values in (level, *_carried(view)):
-        values[hole] = values.take(source)
+        hole, neighbour, value = hole.take(fill), neighbour.take(fill), value.take(fill)
+    ranges[hole] = value
+    source[hole] = source.take(neighbour)
 
 
 def _carried(view: LevelView) -> tuple[np.ndarray, ...]:
     """The per-beam values a beam's view carries along besides its range."""
     return view.ages, view.ahead_s, view.farther_s, view.dropped_m, view.dropped_s
+
+
+# the values of :func:`_carried` where the view knows nothing (as :meth:`LevelView.seen`
+# with an infinite age): never confirmed, no clock running, no surface given up
+_NOTHING = (np.inf, 0.0, 0.0, np.nan, np.inf)

@@ -250,8 +250,8 @@ def score_segments(
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
-        length = _line_lengths(segments, gates & (new_counts >= params.down_side_min_new), params)
-        score *= np.minimum(length / params.line_length_m, 1.0)
+        strong = gates & (new_counts >= params.down_side_min_new)
+        score *= _length_shares(segments, strong, params)
     # the scan's evidence against a floor line: it stayed put in the world, or returns lie
     # beyond it; asked of every gated segment the IMU may support, else of the scored ones
     asked = gates if attitude is not None else score > 0.0
@@ -378,18 +378,21 @@ def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams
     return float(np.sign(segments.centroids[strongest, 0]) * scores.tilt_rad[strongest])
 
 
-def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams) -> np.ndarray:
-    """Per segment: the length of its line, m: its own (``sqrt(12 var)`` along it), or for
-    a strong line the length of all the scan's points that lie on it, if longer.
+def _length_shares(segments: Segments, strong: np.ndarray, params: ImprovedParams) -> np.ndarray:
+    """Per segment: the length of its line as a share of ``line_length_m``, at most 1. The
+    length is its own (``sqrt(12 var)`` along it), or for a strong line the length of all
+    the scan's points that lie on it, if longer.
 
     All floor hits of one scan lie on one straight line, so the pieces of it that furniture,
     a noisy stretch or a cut at a turn of direction separate are one line: its length is
     theirs together (the points :func:`pvfilter.improved.claims.spread_claims` takes in).
+    Where every strong line is ``line_length_m`` long by itself (most scans with one), its
+    share is 1 whatever else lies on it, and those points are not looked for.
     """
     own = np.sqrt(12.0 * segments.spread_along)
     lines = indices(strong)
-    if lines.size == 0:
-        return own
+    if not np.count_nonzero(own.take(lines) < params.line_length_m):  # no strong line short
+        return np.minimum(own / params.line_length_m, 1.0)
     points, line = spread_claims(segments, lines, params)
     normals = segments.normals.take(line, axis=0)  # (take: cheaper than indexing rows)
     x, y = segments.points[:, 0].take(points), segments.points[:, 1].take(points)
@@ -398,7 +401,8 @@ def _line_lengths(segments: Segments, strong: np.ndarray, params: ImprovedParams
     count = np.maximum(np.bincount(line, minlength=k), 1)
     mean = np.bincount(line, along, k) / count
     variance = np.maximum(np.bincount(line, along * along, k) / count - mean * mean, 0.0)
-    return np.maximum(own, np.sqrt(12.0 * variance))
+    length = np.maximum(own, np.sqrt(12.0 * variance))
+    return np.minimum(length / params.line_length_m, 1.0)
 
 
 def _evidence_against(
