@@ -38,8 +38,10 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    in the world, or returns lie beyond it): the IMU says where the floor may be, not that
    a wall is not there. A line the IMU's pitch cannot explain (a floor line nearer than
    its tilt allows, beyond what the body can reach within the estimate's lag, where the
-   IMU does not show the plane tilted down on that side) is weighted like a line on the
-   up side. The IMU's band
+   IMU does not show the plane tilted down on that side; the estimate's sign counts: a
+   line ahead needs the plane nose down by the line's tilt, one behind nose up, so an
+   estimate 1.5° nose up is 4.5° from a floor line 3° ahead) is weighted like a line on
+   the up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
    Only an IMU that shows the plane tilted by at least ``IMU_PLACE_FACTOR`` times its
    band supports a line: a level estimate cannot tell a tilted plane from a level one,
@@ -281,8 +283,8 @@ def score_segments(
     scan_score = score.copy()
     contradicted = False
     if attitude is not None:
-        agree, beyond, contradict = _imu_agreement(distances, side, tilt, attitude, params)
-        contradicted = bool((beyond & (scan_score > params.p_th)).any())
+        agree, unexplained, contradict = _imu_agreement(distances, side, tilt, attitude, params)
+        contradicted = bool((unexplained & (scan_score > params.p_th)).any())
         # where the floor may be, unless the scan's own evidence says it is not
         support = IMU_SUPPORT * not_static
         support[beyond] *= params.up_side_weight
@@ -495,8 +497,9 @@ def _imu_agreement(
     params: ImprovedParams,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
-    (a floor there would need more tilt than the IMU's band allows); and it is vetoed (it
-    would need more than the band and ``reach_rad`` together)."""
+    (a floor there would need the plane tilted down on the line's side by more than the
+    IMU's pitch that way and its band allow); and it is vetoed (it would need more than
+    the band and ``reach_rad`` together)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
     agree = np.zeros(len(distances), dtype=bool)
     if magnitude >= IMU_PLACE_FACTOR * error:  # else the IMU cannot tell where the floor is
@@ -506,5 +509,9 @@ def _imu_agreement(
     # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane
     # tilted down on the line's side, the floor is there and only its distance is in doubt
     unexplained = ~agree & ~(attitude.tilted & (side == attitude.down_side))
-    beyond = unexplained & (tilt > magnitude + error)
-    return agree, beyond, beyond & (tilt > magnitude + error + attitude.reach_rad)
+    # how far past the IMU's pitch the plane must have tilted down on the line's side for
+    # the line to be the floor: nose down for a line ahead, nose up for one behind (the
+    # estimate's sign counts: nose up by 1 deg puts a floor line ahead 1 deg farther off)
+    past = tilt - side * attitude.pitch_rad
+    beyond = unexplained & (past > error)
+    return agree, beyond, beyond & (past > error + attitude.reach_rad)
