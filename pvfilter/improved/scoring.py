@@ -53,8 +53,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    that keeps the place of the floor line of the last strong scans in the sensor frame,
    while the sensor turned past what a line fixed in the world could follow, scores at
    least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new;
-   unless more than half its points stayed put in the world, or returns lie beyond it:
-   a wall that the turn sweeps through that place keeps it for a scan, and is a wall.
+   unless more than half its points stayed put in the world, or returns lie beyond it
+   (a wall that the turn sweeps through that place keeps it for a scan, and is a wall),
+   or the IMU's pitch cannot explain it (as in step 5).
    Nor does a line most of whose points lie on the level view's surface (more than
    ``HELD_ON_VIEW``): where the turn alone moves no return along its beam, the
    world-static test cannot tell, but a wall stands where the view has it, and a floor
@@ -282,6 +283,7 @@ def score_segments(
         score *= params.up_side_weight
     scan_score = score.copy()
     contradicted = False
+    unexplained = None
     if attitude is not None:
         agree, unexplained, contradict = _imu_agreement(distances, side, tilt, attitude, params)
         contradicted = bool((unexplained & (scan_score > params.p_th)).any())
@@ -292,6 +294,8 @@ def score_segments(
         score[contradict] *= params.up_side_weight
     if kept is not None:
         kept &= (not_static >= HELD_NOT_STATIC) & ~beyond
+        if attitude is not None:
+            kept &= ~unexplained
         if view_valid is not None and np.count_nonzero(kept):
             kept &= _on_view_share(segments, view_valid) <= HELD_ON_VIEW
         if np.count_nonzero(kept):

@@ -341,6 +341,21 @@ def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong
         assert score(other).scores.max() == 0.0
 
 
+def test_a_held_lines_place_is_kept_only_where_the_imu_can_explain_the_line():
+    # the held 8 deg tilt's floor line 1.8 m ahead, no new point: an estimate tilted
+    # nose down by about that much explains it, a level one cannot (it would need the
+    # plane 8 deg nose down, 6 past the level estimate's 2 deg band): not kept then
+    x = HEIGHT_M / math.sin(math.radians(8.0))
+    points = line(x, -1.0, x, 1.0)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
+    nothing_new = np.zeros(len(points), bool)
+    held = HeldLine(1, math.radians(8.0), 0.0)
+    for pitch_deg, kept in ((8.5, True), (0.0, False)):
+        estimate = Attitude(math.radians(pitch_deg), 0.0, math.radians(2.0))
+        result = score_segments(segments, nothing_new, 0.0, estimate, PARAMS, held=held)
+        assert bool(result.scores[0] >= CONFIDENT_SCORE) == kept
+
+
 def _wall_in_the_held_place(**kwargs):
     """Score a wall of no new points where a held 8 deg tilt puts its floor line ahead (the
     keyword arguments go to :func:`score_segments`); and the wall's points."""
