@@ -47,7 +47,7 @@ IMU_CHECK_MIN_LINES = 4  # before this many lines, the band is the default
 IMU_CHECK_MAX_RATE = 0.5  # rad/s: lines seen while the estimate changes faster are not
 # compared (the rate's own widening of the band covers the lag then)
 IMU_CHECK_QUANTILE = 0.8  # the differences seen are measured by this quantile of their size
-IMU_CHECK_FACTOR = 1.5  # the band is this many times that quantile: about 2.5 standard
+IMU_CHECK_FACTOR = 1.5  # the band is this many times that quantile: about 1.9 standard
 # deviations of normal differences (a veto must hold for nearly all of them)
 
 

@@ -38,8 +38,10 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    in the world, or returns lie beyond it): the IMU says where the floor may be, not that
    a wall is not there. A line the IMU's pitch cannot explain (a floor line nearer than
    its tilt allows, beyond what the body can reach within the estimate's lag, where the
-   IMU does not show the plane tilted down on that side) is weighted like a line on the
-   up side. The IMU's band
+   IMU does not show the plane tilted down on that side; the estimate's sign counts: a
+   line ahead needs the plane nose down by the line's tilt, one behind nose up, so an
+   estimate 1.5° nose up is 4.5° from a floor line 3° ahead) is weighted like a line on
+   the up side. The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
    Only an IMU that shows the plane tilted by at least ``IMU_PLACE_FACTOR`` times its
    band supports a line: a level estimate cannot tell a tilted plane from a level one,
@@ -51,8 +53,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    that keeps the place of the floor line of the last strong scans in the sensor frame,
    while the sensor turned past what a line fixed in the world could follow, scores at
    least ``CONFIDENT_SCORE`` and counts as strong, however few of its points are new;
-   unless more than half its points stayed put in the world, or returns lie beyond it:
-   a wall that the turn sweeps through that place keeps it for a scan, and is a wall.
+   unless more than half its points stayed put in the world, or returns lie beyond it
+   (a wall that the turn sweeps through that place keeps it for a scan, and is a wall),
+   or the IMU's pitch cannot explain it (as in step 5).
    Nor does a line most of whose points lie on the level view's surface (more than
    ``HELD_ON_VIEW``): where the turn alone moves no return along its beam, the
    world-static test cannot tell, but a wall stands where the view has it, and a floor
@@ -280,9 +283,10 @@ def score_segments(
         score *= params.up_side_weight
     scan_score = score.copy()
     contradicted = False
+    unexplained = None
     if attitude is not None:
-        agree, beyond, contradict = _imu_agreement(distances, side, tilt, attitude, params)
-        contradicted = bool((beyond & (scan_score > params.p_th)).any())
+        agree, unexplained, contradict = _imu_agreement(distances, side, tilt, attitude, params)
+        contradicted = bool((unexplained & (scan_score > params.p_th)).any())
         # where the floor may be, unless the scan's own evidence says it is not
         support = IMU_SUPPORT * not_static
         support[beyond] *= params.up_side_weight
@@ -290,6 +294,8 @@ def score_segments(
         score[contradict] *= params.up_side_weight
     if kept is not None:
         kept &= (not_static >= HELD_NOT_STATIC) & ~beyond
+        if attitude is not None:
+            kept &= ~unexplained
         if view_valid is not None and np.count_nonzero(kept):
             kept &= _on_view_share(segments, view_valid) <= HELD_ON_VIEW
         if np.count_nonzero(kept):
@@ -495,8 +501,9 @@ def _imu_agreement(
     params: ImprovedParams,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
-    (a floor there would need more tilt than the IMU's band allows); and it is vetoed (it
-    would need more than the band and ``reach_rad`` together)."""
+    (a floor there would need the plane tilted down on the line's side by more than the
+    IMU's pitch that way and its band allow); and it is vetoed (it would need more than
+    the band and ``reach_rad`` together)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
     agree = np.zeros(len(distances), dtype=bool)
     if magnitude >= IMU_PLACE_FACTOR * error:  # else the IMU cannot tell where the floor is
@@ -506,5 +513,9 @@ def _imu_agreement(
     # a line that needs more tilt than the IMU's band allows; where the IMU shows the plane
     # tilted down on the line's side, the floor is there and only its distance is in doubt
     unexplained = ~agree & ~(attitude.tilted & (side == attitude.down_side))
-    beyond = unexplained & (tilt > magnitude + error)
-    return agree, beyond, beyond & (tilt > magnitude + error + attitude.reach_rad)
+    # how far past the IMU's pitch the plane must have tilted down on the line's side for
+    # the line to be the floor: nose down for a line ahead, nose up for one behind (the
+    # estimate's sign counts: nose up by 1 deg puts a floor line ahead 1 deg farther off)
+    past = tilt - side * attitude.pitch_rad
+    beyond = unexplained & (past > error)
+    return agree, beyond, beyond & (past > error + attitude.reach_rad)

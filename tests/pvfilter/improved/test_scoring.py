@@ -206,6 +206,44 @@ def test_an_imu_that_shows_the_plane_level_lends_no_line_its_support():
         assert 0.0 < result.scores[0] == pytest.approx(result.scan_scores[0])
 
 
+def test_the_imus_sign_counts_in_the_band_a_floor_line_must_lie_in():
+    # a floor line ahead needs the plane 3 deg nose down; an estimate 1.5 deg nose up
+    # (within a 2 deg band of level, so not "tilted") is 4.5 deg from it, one 1.5 deg
+    # nose down only 1.5: the first cannot explain the line, the second can
+    tilt = math.radians(3.0)
+    distance = HEIGHT_M / math.sin(tilt)
+    ahead = line(distance, -1.5, distance, 1.5, 60)
+    for pitch_deg, explained in ((1.5, True), (-1.5, False)):
+        estimate = Attitude(math.radians(pitch_deg), 0.0, math.radians(2.0))
+        assert not estimate.tilted
+        _, result = scored(ahead, attitude=estimate)
+        assert result.scan_scores[0] == pytest.approx(1.0)  # the scan alone: the floor
+        assert result.scores[0] == pytest.approx(1.0 if explained else PARAMS.up_side_weight)
+        assert result.imu_contradicted is not explained
+    # behind, the same: a nose-up estimate explains a floor line behind, a nose-down not
+    behind = line(-distance, -1.5, -distance, 1.5, 60)
+    for pitch_deg, explained in ((-1.5, True), (1.5, False)):
+        estimate = Attitude(math.radians(pitch_deg), 0.0, math.radians(2.0))
+        _, result = scored(behind, attitude=estimate)
+        assert result.scores[0] == pytest.approx(1.0 if explained else PARAMS.up_side_weight)
+
+
+def test_returns_beyond_a_line_weigh_down_the_imus_support_for_it():
+    # the IMU puts the floor 1.44 m ahead, where a wall the level view knows stands (no
+    # new point); returns 2.5 m farther out beside it show that the plane does not meet
+    # the floor there: the IMU's support is weighted down as the scan's own score would be
+    tilt = math.radians(10.0)
+    distance = HEIGHT_M / math.sin(tilt)
+    wall = line(distance, -0.5, distance, 0.5, 30)
+    open_space = line(distance + 2.5, 0.8, distance + 2.5, 1.6, 30)
+    agreeing = Attitude(tilt, 0.0, math.radians(2.0))
+    none_new = np.zeros(60, bool)
+    _, alone = scored(wall, new=none_new[:30], attitude=agreeing)
+    assert alone.scores[0] == pytest.approx(IMU_SUPPORT)
+    segments, beside = scored(wall, open_space, new=none_new, attitude=agreeing)
+    assert beside.scores[at(segments, 0)] == pytest.approx(IMU_SUPPORT * PARAMS.up_side_weight)
+
+
 def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against():
     # h / sin(pitch) from the sensor: ahead for nose down, behind (negative) for nose up
     for pitch in (math.radians(10.0), math.radians(-6.0)):
@@ -301,6 +339,21 @@ def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong
     for other in (HeldLine(1, tilt, 0.0), HeldLine(1, math.radians(8.0), 0.2),
                   HeldLine(-1, math.radians(8.0), 0.0)):  # fmt: skip
         assert score(other).scores.max() == 0.0
+
+
+def test_a_held_lines_place_is_kept_only_where_the_imu_can_explain_the_line():
+    # the held 8 deg tilt's floor line 1.8 m ahead, no new point: an estimate tilted
+    # nose down by about that much explains it, a level one cannot (it would need the
+    # plane 8 deg nose down, 6 past the level estimate's 2 deg band): not kept then
+    x = HEIGHT_M / math.sin(math.radians(8.0))
+    points = line(x, -1.0, x, 1.0)
+    segments = segment_scan(points, np.arange(len(points)), INCREMENT, PARAMS)
+    nothing_new = np.zeros(len(points), bool)
+    held = HeldLine(1, math.radians(8.0), 0.0)
+    for pitch_deg, kept in ((8.5, True), (0.0, False)):
+        estimate = Attitude(math.radians(pitch_deg), 0.0, math.radians(2.0))
+        result = score_segments(segments, nothing_new, 0.0, estimate, PARAMS, held=held)
+        assert bool(result.scores[0] >= CONFIDENT_SCORE) == kept
 
 
 def _wall_in_the_held_place(**kwargs):
