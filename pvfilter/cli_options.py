@@ -15,6 +15,7 @@ import numpy as np
 
 from pvfilter import toml_reader
 from pvfilter.contract import ROBOT_INPUTS
+from pvfilter.improved import ImprovedParams
 from pvfilter.paper import CLUSTERING_MODES, FilterParams
 from pvfilter.params_file import load_params
 from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
@@ -31,12 +32,15 @@ def add_filter_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--set", action="append", metavar="NAME=VALUE", help="set one parameter (repeatable)"
     )
+    improved_defaults = {f.name: f.default for f in dataclasses.fields(ImprovedParams)}
     for field in SYMBOLS:
+        also = field.name in improved_defaults  # p_th: the improved filter's threshold too
         parser.add_argument(
             f"--{field.name.replace('_', '-')}",
             dest=field.name,
             type=type(field.default),
-            help=f"{field.name} (paper's Table I: {field.default})",
+            help=f"{field.name} (paper's Table I: {field.default}"
+            + (f"; improved filter: {improved_defaults[field.name]})" if also else ")"),
         )
     parser.add_argument("--clustering", choices=CLUSTERING_MODES, help="paper: BFS neighbourhood")
     parser.add_argument("--detection-only", action="store_true", help="paper: no tracking")

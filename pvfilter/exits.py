@@ -39,8 +39,16 @@ def run_command(
         _silence_stdout()
         return EXIT_PIPE_CLOSED
     except mistakes as error:
-        print(f"{prog}: error: {error}", file=sys.stderr)
+        print(f"{prog}: error: {_what(error)}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _what(error: BaseException) -> str:
+    """The mistake in words: a file the system could not open as ``FILE: why`` (as a Unix
+    tool says it), not Python's ``[Errno 2] ...``."""
+    if isinstance(error, OSError) and error.filename is not None and error.strerror:
+        return f"{error.filename}: {error.strerror}"
+    return str(error)
 
 
 def _silence_stdout() -> None:

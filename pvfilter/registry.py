@@ -96,7 +96,8 @@ class FilterEntry:
         geometry = {k: v for k, v in (robot_geometry or {}).items() if k in names}
         unknown = sorted(set(fields) - names)
         if unknown:
-            raise ValueError(f"{self.name}: unknown parameter {unknown[0]!r}")
+            known = ", ".join(sorted(names))
+            raise ValueError(f"{self.name}: unknown parameter {unknown[0]!r} (known: {known})")
         if geometry or fields:
             params = dataclasses.replace(params, **geometry, **fields)
         return self.factory(params)

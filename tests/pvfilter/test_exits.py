@@ -18,6 +18,12 @@ def test_a_mistake_is_one_line_and_exit_2(capsys):
     assert capsys.readouterr().err == "pvfilter: error: p_th: must be <= 1\n"
 
 
+def test_a_file_that_cannot_be_opened_is_named_as_a_unix_tool_names_it(capsys):
+    missing = FileNotFoundError(2, "No such file or directory", "scans.npz")
+    assert run_command("pvfilter", raising(missing)) == EXIT_USAGE
+    assert capsys.readouterr().err == "pvfilter: error: scans.npz: No such file or directory\n"
+
+
 def test_ctrl_c_says_what_it_left(capsys):
     status = run_command("pvfilter", raising(KeyboardInterrupt()), "interrupted: nothing written")
     assert status == EXIT_INTERRUPTED

@@ -99,11 +99,17 @@ def _generate(args: argparse.Namespace) -> int:
         )
         return 130
     print(
-        f"{report.episodes} episodes in {args.out} ({report.generated} new, {report.skipped} "
-        f"already there); {report.scans} scans in {report.wall_s:.1f} s "
-        f"({report.scans_per_s:.0f} scans/s); {report.fallen} new episodes ended in a fall"
+        f"{_count(report.episodes, 'episode')} in {args.out} ({report.generated} new, "
+        f"{report.skipped} already there); {_count(report.scans, 'scan')} in "
+        f"{report.wall_s:.1f} s ({report.scans_per_s:.0f} scans/s); of the new, "
+        f"{report.fallen} ended in a fall"
     )
     return 0
+
+
+def _count(number: int, noun: str) -> str:
+    """``number`` and ``noun``, plural unless one: "1 episode", "3 episodes"."""
+    return f"{number} {noun}" if number == 1 else f"{number} {noun}s"
 
 
 def _export_bag(args: argparse.Namespace) -> int:
