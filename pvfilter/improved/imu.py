@@ -27,9 +27,7 @@ narrow band; a poor one widens it until the scans decide, so an IMU that is off 
 vetoes a floor line the scans show. The error is not taken as an offset to correct: an
 estimator that lags is off one way while the robot pitches nose down and the other way
 nose up. Wrong lines among the confident ones (a wall taken for the floor) are a minority
-the quantile passes over, as long as they stay one: a line the IMU vetoed does not count
-(a wall that came back new after a pitch event is confident from the scan alone, scan
-after scan, and such walls alone had widened a true attitude's band to 16 deg).
+the quantile passes over.
 """
 
 from __future__ import annotations

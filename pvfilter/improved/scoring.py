@@ -376,14 +376,10 @@ def strongest_confident(
 
 def line_pitch(segments: Segments, scores: SegmentScores, params: ImprovedParams) -> float | None:
     """The pitch (rad, positive nose down) at which the scan's strongest confident line
-    (:func:`strongest_confident`) is the floor; None if there is none, or if the IMU's
-    verdict weighed that line down (vetoed it). The IMU's estimate is checked against it
-    (:mod:`pvfilter.improved.imu`): a line the IMU vetoed is as likely a wall the scan
-    took for the floor (one that came back new after a pitch event, the level view off by
-    a few centimetres) as a sign of the IMU's error, and learning from such walls would
-    widen the IMU's band until it vetoed nothing."""
+    (:func:`strongest_confident`) is the floor; None if there is none. The IMU's estimate
+    is checked against it (:mod:`pvfilter.improved.imu`)."""
     strongest = strongest_confident(segments, scores, params)
-    if strongest is None or scores.scores[strongest] < CONFIDENT_SCORE:
+    if strongest is None:
         return None
     return float(np.sign(segments.centroids[strongest, 0]) * scores.tilt_rad[strongest])
 

@@ -255,21 +255,6 @@ def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against
     assert line_pitch(segments, result, PARAMS) is None
 
 
-def test_a_line_the_imu_vetoed_does_not_check_the_imu():
-    # a wall 1.44 m ahead, new after a pitch event: the scan alone takes it for the floor
-    # 10 deg down; an estimate that reads level and has had a scan's time to catch up
-    # (reach 0) vetoes it, and it teaches the IMU's band nothing; one whose reach covers
-    # the line does not veto it, and the line checks the estimate
-    distance = HEIGHT_M / math.sin(math.radians(10.0))
-    wall = line(distance, -1.5, distance, 1.5, 60)
-    for reach_deg, checked in ((0.0, False), (17.0, True)):
-        level = Attitude(0.0, 0.0, math.radians(2.0), reach_rad=math.radians(reach_deg))
-        segments, result = scored(wall, attitude=level)
-        assert result.scan_scores[0] == pytest.approx(1.0)
-        pitch = line_pitch(segments, result, PARAMS)
-        assert (pitch is not None) is checked
-
-
 class Told:
     """A stand-in world-static test: every point stayed put, and the test tells or not."""
 
