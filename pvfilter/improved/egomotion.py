@@ -13,7 +13,8 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   unstretched as if tilted would have its walls ahead and behind nearer by
   ``1 - cos(tilt)``, which the match reads as travel;
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
-  that grows with the step: the wheels slip on hard stops), else the last step at
+  that grows with the step: the wheels slip on hard stops; a step faster than the robot
+  can turn or drive is slip, not motion: :meth:`EgoMotion.plausible_pose`), else the last step at
   constant velocity; where that finds no pairs of points (a velocity from a bad match in
   a pitch event puts every wall farther off than ``association_m``, and a coasting filter
   would carry it for ``max_event_s``), the match is tried once more from the robot
@@ -108,6 +109,20 @@ class EgoMotion:
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
         self.tilt = 0.0  # the previous scan's tilt, rad
+
+    def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
+        """``pose``, or None where the odometry's step to it from the previous scan's turns
+        or drives faster than a robot of this class can (``max_yaw_rate_rad_s``,
+        ``MAX_SPEED_MPS``, as a match is judged): its wheels slipped, as a shove can spin
+        them, and the odometry then reads a turn of a radian in a tenth of a second. The
+        scan is matched as without odometry then, and the next step starts from the next
+        pose."""
+        if pose is None or self.pose is None or dt <= 0.0:
+            return pose
+        step = odometry_motion(self.pose, pose)
+        turn_ok = abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
+        drive_ok = step.translation_m <= MAX_SPEED_MPS * dt + self.params.association_m
+        return pose if turn_ok and drive_ok else None
 
     def prior(self, dt: float, pose: np.ndarray | None) -> tuple[Motion, tuple[float, float]]:
         """The step expected from the previous scan to this one, and its spread (rad, m)."""

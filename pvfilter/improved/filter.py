@@ -256,7 +256,9 @@ class ImprovedPitchVariationFilter:
         directions = np.empty(len(scan))
         directions.fill(np.nan)
         directions[beams] = segments.directions
-        # the scan in its mid-scan frame, deskewed with the prior's velocity
+        # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
+        # step no robot of this class can make is slip, and no prior)
+        pose = self._ego.plausible_pose(pose, dt)
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)

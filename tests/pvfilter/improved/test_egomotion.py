@@ -72,6 +72,22 @@ def test_slipping_odometry_is_corrected_by_the_walls():
     assert prior[1][1] > 0.01  # the spread grows with the step (slip)
 
 
+def test_an_odometry_step_no_robot_can_make_is_slip_and_no_prior():
+    # a shove spins one wheel: the odometry reads a turn of a radian in a tenth of a
+    # second (10 rad/s; the robot turns at most max_yaw_rate_rad_s), or a 1 m drive
+    ego, _, _, _ = started(room_segments(3.0, 3.0, 2.0, 2.0))
+    ego.pose = np.zeros(3)
+    assert ego.plausible_pose(np.array([0.05, 0.0, 0.1]), DT) is not None  # 1 rad/s
+    for slipped in (np.array([0.05, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])):
+        assert ego.plausible_pose(slipped, DT) is None
+    # the room as the walls show it: the match is the scans' own, as without odometry
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    before, _ = tilted_scan(walls=room)
+    after, _ = tilted_scan(pose=(0.05, 0.0, 0.0), walls=room)
+    found, _ = matched(before, after, np.zeros(3), np.array([0.05, 0.0, 1.0]))
+    assert not found.trusted  # taken at its word, the odometry's turn loses every pair
+
+
 def test_a_match_far_from_the_odometry_or_without_pairs_is_not_trusted():
     room = room_segments(3.0, 3.0, 2.0, 2.0)
     before, _ = tilted_scan(walls=room)
