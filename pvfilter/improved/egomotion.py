@@ -12,13 +12,14 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   coasted scan without a floor line shows the robot levelled, and the next, level scan
   unstretched as if tilted would have its walls ahead and behind nearer by
   ``1 - cos(tilt)``, which the match reads as travel;
-- the **prior** is the wheel odometry's step when the robot gives its pose (with a spread
-  that grows with the step: the wheels slip on hard stops; a step faster than the robot
-  can turn or drive is slip, not motion: :meth:`EgoMotion.plausible_pose`), else the last step at
-  constant velocity; where that finds no pairs of points (a velocity from a bad match in
-  a pitch event puts every wall farther off than ``association_m``, and a coasting filter
-  would carry it for ``max_event_s``), the match is tried once more from the robot
-  standing since the reference, as it mostly does at the end of a hard stop;
+- the **prior** is the wheel odometry's step when the robot gives its pose (with a
+  spread that grows with the step: the wheels slip on hard stops; a step faster than the
+  robot can turn or drive is slip, not motion: :meth:`EgoMotion.plausible_pose`), else
+  the last step at constant velocity; where that finds no pairs of points (a velocity
+  from a bad match in a pitch event puts every wall farther off than ``association_m``,
+  and a coasting filter would carry it for ``max_event_s``), the match is tried once
+  more from the robot standing since the reference, as it mostly does at the end of a
+  hard stop;
 - at a **low scan rate** (no odometry, and a gap long enough for the constant-velocity
   prior to be off by more than ``association_m``) the drive between the scans is
   searched before the fit (:mod:`pvfilter.improved.widestep`);
