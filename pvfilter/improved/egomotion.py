@@ -50,6 +50,7 @@ from pvfilter.improved.motion import (
     estimate_motion,
     odometry_motion,
 )
+from pvfilter.improved.noise import range_noise_m
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.sweep import unstretch
 from pvfilter.improved.widestep import MAX_SEARCH_M, prior_doubt_m, wide_step
@@ -58,7 +59,11 @@ ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, be
 ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip
 STEADY_TURN_RAD = 0.01  # rad: how much the turn may change in one step (constant velocity)
 STEADY_SHIFT_M = 0.03  # m: how much the translation may change in one step
-MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted
+MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted, unless
+# the scan is level and its range noise explains it (fit_trusted)
+NOISE_RESIDUAL_FACTOR = 2.0  # 1: a level scan's fit whose median residual is at most this
+# many times the scan's range noise (:func:`pvfilter.improved.noise.range_noise_m`) is
+# trusted: right fits leave 0.7 to 1.3 times it (two ranges' noise seen across a surface)
 ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is not trusted
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
 MIN_REFERENCE_POINTS = MIN_PAIRS  # a scan with fewer points left to match against
@@ -205,10 +210,10 @@ class EgoMotion:
                 spread[0],
                 found,
             )
-            if wide is not None and wide.residual_m <= MAX_RESIDUAL_M:
+            if wide is not None and fit_trusted(wide.residual_m, ranges, guess == 0.0):
                 found = wide
         step = self.since_reference.inverse().then(found)
-        trusted = found.pairs >= MIN_PAIRS and found.residual_m <= MAX_RESIDUAL_M
+        trusted = found.pairs >= MIN_PAIRS and fit_trusted(found.residual_m, ranges, guess == 0.0)
         # no faster than a robot of this class turns and drives since the reference
         trusted &= abs(found.theta_rad) <= self.params.max_yaw_rate_rad_s * since_s + math.radians(
             2.0
@@ -305,6 +310,24 @@ class EgoMotion:
         self.coasted_s = 0.0
         self.tilt = tilt_rad
         self.pose = pose
+
+
+def fit_trusted(residual_m: float, ranges: np.ndarray, level: bool) -> bool:
+    """A match's median residual (m) is small enough to trust: at most ``MAX_RESIDUAL_M``,
+    or, for a ``level`` scan, at most ``NOISE_RESIDUAL_FACTOR`` times the range noise of
+    its ``ranges`` (per beam, m; NaN or infinite: no return).
+
+    A scanner with 5 cm of range noise leaves 5 cm on right fits: refused, every level
+    scan would start the filter afresh. A tilted scan's fit carries more than the noise
+    (it is unstretched by the last scan's tilt, and the pitch changes within the sweep),
+    and one refused there only coasts: the bound stays. The noise is worked out only for
+    a level scan's residual over the bound.
+    """
+    if residual_m <= MAX_RESIDUAL_M:
+        return True
+    if not level or not residual_m == residual_m:  # NaN: no fit
+        return False
+    return residual_m <= NOISE_RESIDUAL_FACTOR * range_noise_m(ranges)
 
 
 def _same_stretch(tilt_rad: float, other_rad: float) -> bool:

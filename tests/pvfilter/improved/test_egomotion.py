@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from pvfilter.improved import ImprovedParams, Motion
-from pvfilter.improved.egomotion import EgoMotion
+from pvfilter.improved import ImprovedParams, Motion, egomotion
+from pvfilter.improved.egomotion import MAX_RESIDUAL_M, EgoMotion, fit_trusted
 from pvfilter.synthetic import room_segments
 
-from .conftest import prepared, tilted_scan
+from .conftest import prepared, room_scan, tilted_scan
 
 PARAMS = ImprovedParams()
 DT = 0.1  # s
@@ -202,3 +202,30 @@ def test_a_scan_with_nothing_left_to_match_does_not_replace_the_reference():
     # a scan with enough left replaces it as before
     ego.commit(points, np.zeros(len(after), bool), found, 0.0, DT, None)
     assert ego.reference is not reference and ego.since_reference == Motion()
+
+
+def test_a_noisy_scanners_right_match_is_trusted(monkeypatch):
+    # 8 cm of range noise: a right match leaves a median residual (5.4 cm) over
+    # MAX_RESIDUAL_M, well within what the scan's own noise explains
+    before, _ = room_scan(noise_m=0.08, seed=1)
+    after, _ = room_scan(pose=(0.1, 0.0, 0.0), noise_m=0.08, seed=2)
+    match, _ = matched(before, after)
+    assert match.trusted
+    assert match.step.tx_m == pytest.approx(-0.1, abs=0.03)
+    monkeypatch.setattr(egomotion, "NOISE_RESIDUAL_FACTOR", 0.0)  # the fixed bound alone
+    assert not matched(before, after)[0].trusted
+
+
+def test_a_level_scans_fit_is_trusted_within_the_bound_or_the_scans_own_noise():
+    quiet, _ = room_scan(noise_m=0.01)
+    noisy, _ = room_scan(noise_m=0.05)
+    quiet_ranges = np.where(quiet.valid_mask(), quiet.ranges, np.nan)
+    noisy_ranges = np.where(noisy.valid_mask(), noisy.ranges, np.nan)
+    assert fit_trusted(MAX_RESIDUAL_M, quiet_ranges, True)
+    assert fit_trusted(MAX_RESIDUAL_M, noisy_ranges, False)
+    assert not fit_trusted(math.nan, noisy_ranges, True)  # no fit
+    assert not fit_trusted(0.08, quiet_ranges, True)  # far more than 1 cm of noise leaves
+    assert fit_trusted(0.08, noisy_ranges, True)
+    assert not fit_trusted(0.3, noisy_ranges, True)  # a wrong fit leaves far more
+    # a tilted scan's fit carries more than the noise: the bound stays
+    assert not fit_trusted(0.08, noisy_ranges, False)
