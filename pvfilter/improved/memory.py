@@ -33,8 +33,11 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   the plane passes over as the robot rocks on a rough floor comes and goes; it is
   structure, not a line sweeping in;
 - beams with no return within range (``+inf``) remember free space up to ``range_max``
-  where the view knew nothing; but a beam without an echo next to a beam that returns on
-  the view or in front of it frees nothing: a dark surface, or one met at grazing
+  where the view knew nothing (a sequence's first scan leaves them unknown: one scan's
+  silence, a sensor blinded by a person touching it, is not space seen free, and the
+  wall behind would be new in the next scan; a second silent scan frees them); but a
+  beam without an echo next to a beam that returns on the view or in front of it frees
+  nothing: a dark surface, or one met at grazing
   incidence, echoes on some beams and some scans only, and its silent beams are
   dropouts, not space seen free. Nor does silence free a surface the view holds: a plane
   tilted by two or three degrees, too little to show a floor line, meets the floor at a
@@ -209,9 +212,11 @@ class LevelMemory:
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
         valid = ~np.isnan(ranges)
-        if view is None:  # the first scan of a sequence: all it has
-            level_ranges = np.where(no_return, np.inf, ranges)
-            seen = np.where(valid | no_return, 0.0, np.inf)
+        if view is None:  # the first scan of a sequence: its returns (its silent beams
+            # stay unknown: one scan's silence, a blinded sensor or a dark wall, is not
+            # space seen free; the next silent scan frees them)
+            level_ranges = ranges.copy()
+            seen = np.where(valid, 0.0, np.inf)
             self.state = LevelView.seen(level_ranges, seen)
             return
         current = view.ranges.copy()

@@ -25,9 +25,14 @@ def ranges_of(scan):
 
 
 def gaps_against(view_scan, scan, range_max=12.0):
+    """Gaps of ``scan`` against the view of two level scans ``view_scan`` (a sequence's
+    first scan leaves its silent beams unknown; the second frees them)."""
     memory = LevelMemory()
-    memory.update(ranges_of(view_scan), np.isposinf(view_scan.ranges), None, 0.0, PARAMS, True)
     layout = BeamLayout.of(view_scan)
+    ranges, silent = ranges_of(view_scan), np.isposinf(view_scan.ranges)
+    memory.update(ranges, silent, None, 0.0, PARAMS, True)
+    view = memory.view(layout, range_max, Motion(), Motion(), 0.0, PARAMS)
+    memory.update(ranges, silent, view, 0.1, PARAMS, True)
     view = memory.view(layout, range_max, Motion(), Motion(), 0.0, PARAMS)
     return free_space_gaps(ranges_of(scan), view.ranges, layout, range_max)
 

@@ -190,11 +190,25 @@ def test_a_view_without_a_return_for_too_long_is_forgotten():
     assert np.isnan(view_of(memory, level, params=params).ranges).all()
 
 
-def test_no_return_remembers_free_space():
+def test_no_return_remembers_free_space_once_a_second_scan_agrees():
     level, _ = room_scan(noise_m=0.0)
     open_space = level.with_ranges(np.full(len(level), np.inf))
-    view = view_of(remembered(open_space), level)
-    assert np.isposinf(view.ranges).all()
+    memory = remembered(open_space)
+    assert np.isnan(memory.state.ranges).all()  # one scan's silence: unknown
+    step(memory, open_space)
+    assert np.isposinf(view_of(memory, level).ranges).all()
+
+
+def test_a_sequences_first_silent_scan_does_not_make_the_wall_behind_new():
+    # the first scan of a sequence is blinded ahead (a person touching the sensor, a
+    # dark wall): its silence there is unknown, not free space, and the wall the next
+    # scan sees is not in front of the view
+    level, _ = room_scan(noise_m=0.0)
+    ahead = np.flatnonzero(np.abs(level.angles()) < math.radians(20.0))
+    memory = remembered(silent_on(level, ahead))
+    assert np.isnan(view_of(memory, level).ranges[ahead]).all()
+    step(memory, level)
+    assert np.isfinite(memory.state.ranges[ahead]).all()  # the wall, taken at once
 
 
 def silent_on(scan, beams):
