@@ -360,6 +360,7 @@ class ImprovedPitchVariationFilter:
             prior,
             pose is not None,
             imu_tilt,
+            attitude is not None and attitude.tilted,
         )
         if match.trusted:
             return _MatchOutcome(match)

@@ -37,14 +37,13 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   silence, a sensor blinded by a person touching it, is not space seen free, and the
   wall behind would be new in the next scan; a second silent scan frees them); but a
   beam without an echo next to a beam that returns on the view or in front of it frees
-  nothing: a dark surface, or one met at grazing
-  incidence, echoes on some beams and some scans only, and its silent beams are
-  dropouts, not space seen free. Nor does silence free a surface the view holds: a plane
-  tilted by two or three degrees, too little to show a floor line, meets the floor at a
-  grazing angle that returns no echo on a whole run of beams and hides the wall behind
-  it; taken for free space, the wall would be new when the plane levels and it returns.
-  The surface stays in the view, unconfirmed, until it is forgotten (below), and then a
-  silent beam frees it;
+  nothing: a dark surface, or one met at grazing incidence, echoes on some beams and
+  some scans only, and its silent beams are dropouts, not space seen free. Nor does
+  silence free a surface the view holds: a plane tilted by two or three degrees, too
+  little to show a floor line, meets the floor at a grazing angle that returns no echo
+  on a whole run of beams and hides the wall behind it; taken for free space, the wall
+  would be new when the plane levels and it returns. The surface stays in the view,
+  unconfirmed, until it is forgotten (below), and then a silent beam frees it;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned

@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams, Motion, egomotion
-from pvfilter.improved.egomotion import MAX_RESIDUAL_M, EgoMotion, fit_trusted
+from pvfilter.improved.egomotion import (
+    MAX_NOISE_RESIDUAL_M,
+    MAX_RESIDUAL_M,
+    EgoMotion,
+    fit_trusted,
+)
+from pvfilter.improved.noise import range_noise_m
 from pvfilter.synthetic import room_segments
 
 from .conftest import prepared, room_scan, tilted_scan
@@ -15,15 +21,19 @@ PARAMS = ImprovedParams()
 DT = 0.1  # s
 
 
-def matched(reference, scan, pose_before=None, pose_after=None, tilt=None):
-    """EgoMotion given ``reference`` (level), then matching ``scan``."""
+def matched(
+    reference, scan, pose_before=None, pose_after=None, tilt=None, tilted=False, line_tilt=0.0
+):
+    """EgoMotion given ``reference`` (its floor line's tilt ``line_tilt``, rad: level by
+    default), then matching ``scan`` (``tilt``, ``tilted``: the IMU's, if given)."""
     ego = EgoMotion(PARAMS)
     layout, points, _ = prepared(reference)
     ego.commit(points, np.zeros(len(reference), bool), ego.match(layout, points, None, DT,
-               ego.prior(DT, None), False, None), 0.0, DT, pose_before)  # fmt: skip
+               ego.prior(DT, None), False, None), line_tilt, DT, pose_before)  # fmt: skip
     layout, points, segments = prepared(scan)
     prior = ego.prior(DT, pose_after)
-    return ego.match(layout, points, segments, DT, prior, pose_after is not None, tilt), prior
+    odometry = pose_after is not None
+    return ego.match(layout, points, segments, DT, prior, odometry, tilt, tilted), prior
 
 
 def started(room):
@@ -212,8 +222,19 @@ def test_a_noisy_scanners_right_match_is_trusted(monkeypatch):
     match, _ = matched(before, after)
     assert match.trusted
     assert match.step.tx_m == pytest.approx(-0.1, abs=0.03)
+    # a balancing robot's IMU never reads exactly 0: within its band the scan is level
+    assert matched(before, after, tilt=math.radians(0.3))[0].trusted
     monkeypatch.setattr(egomotion, "NOISE_RESIDUAL_FACTOR", 0.0)  # the fixed bound alone
     assert not matched(before, after)[0].trusted
+
+
+def test_a_noisy_scanners_tilted_match_keeps_the_fixed_bound():
+    # the same right match, but the plane was tilted: by the IMU, or by the last scan's
+    # floor line; a tilted scan's fit carries more than the noise, and refused it coasts
+    before, _ = room_scan(noise_m=0.08, seed=1)
+    after, _ = room_scan(pose=(0.1, 0.0, 0.0), noise_m=0.08, seed=2)
+    assert not matched(before, after, tilt=math.radians(5.0), tilted=True)[0].trusted
+    assert not matched(before, after, line_tilt=math.radians(1.0))[0].trusted
 
 
 def test_a_level_scans_fit_is_trusted_within_the_bound_or_the_scans_own_noise():
@@ -226,6 +247,15 @@ def test_a_level_scans_fit_is_trusted_within_the_bound_or_the_scans_own_noise():
     assert not fit_trusted(math.nan, noisy_ranges, True)  # no fit
     assert not fit_trusted(0.08, quiet_ranges, True)  # far more than 1 cm of noise leaves
     assert fit_trusted(0.08, noisy_ranges, True)
-    assert not fit_trusted(0.3, noisy_ranges, True)  # a wrong fit leaves far more
+    assert not fit_trusted(0.11, noisy_ranges, True)  # over twice the noise
     # a tilted scan's fit carries more than the noise: the bound stays
     assert not fit_trusted(0.08, noisy_ranges, False)
+
+
+def test_a_scans_clutter_cannot_vouch_for_a_poor_fit():
+    # range jumps on most triples of beams: the median second difference is the scene's
+    # (about a metre here), not the scanner's; no fit over MAX_NOISE_RESIDUAL_M is trusted
+    garbled = np.where(np.arange(720) % 2 == 0, 1.0, 3.0)
+    assert range_noise_m(garbled) > 0.5
+    assert not fit_trusted(MAX_NOISE_RESIDUAL_M + 0.01, garbled, True)
+    assert fit_trusted(MAX_NOISE_RESIDUAL_M, garbled, True)

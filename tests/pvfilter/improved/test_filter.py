@@ -295,15 +295,16 @@ def test_a_shove_that_spins_a_wheel_does_not_carry_the_filter_away():
 def test_a_noisy_scanner_keeps_its_level_view():
     # 8 cm of range noise, driving level at 0.5 m/s: right matches leave more than the
     # fixed residual bound, and the scan's own noise explains it; the filter neither
-    # starts afresh nor coasts, and removes nothing
-    pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
-    for k in range(20):
-        scan, _ = room_scan((0.05 * k - 0.5, 0.0, 0.0), stamp=0.1 * k, noise_m=0.08, seed=k)
-        result = pvf.process(scan)
-        if k:
-            assert not result.lines.new_sequence and not result.lines.coasted, k
-            assert result.lines.motion.tx_m == pytest.approx(-0.05, abs=0.03), k
-        assert not result.removed.any(), k
+    # starts afresh nor coasts, and removes nothing, with or without a (level) IMU
+    for pitch_rad in (None, math.radians(0.3)):  # the scans alone; an IMU, level
+        pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
+        for k in range(20):
+            scan, _ = room_scan((0.05 * k - 0.5, 0.0, 0.0), stamp=0.1 * k, noise_m=0.08, seed=k)
+            result = pvf.process(scan, pitch_rad=pitch_rad)
+            if k:
+                assert not result.lines.new_sequence and not result.lines.coasted, k
+                assert result.lines.motion.tx_m == pytest.approx(-0.05, abs=0.03), k
+            assert not result.removed.any(), k
 
 
 def test_the_level_view_is_the_room_a_level_scanner_sees_from_where_the_sensor_is_now():

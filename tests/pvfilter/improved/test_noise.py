@@ -1,6 +1,7 @@
 """The scanner's range noise, from the second differences of one scan's ranges."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -47,3 +48,22 @@ def test_corners_and_range_jumps_do_not_count_as_noise():
     assert range_noise_m(np.where(scan.valid_mask(), scan.ranges, np.nan)) == pytest.approx(
         0.01, rel=0.2
     )
+
+
+def test_a_picket_fence_of_range_jumps_leaves_the_median_alone():
+    # a post every 12th beam, a metre in front of the wall: a quarter of the triples
+    # straddle a jump of a metre. Over 0.6745 sqrt(6), their mean would read 0.3 m; the
+    # median reads the noise, raised to the 67th percentile of the unspoiled ones
+    ranges = wall_ranges(0.01)
+    ranges[::12] -= 1.0
+    assert 0.01 < range_noise_m(ranges) < 0.02
+
+
+def test_infinite_ranges_count_as_no_return_without_a_warning():
+    ranges = wall_ranges(0.02)
+    ranges[10:14] = np.inf  # no echo
+    ranges[40:42] = -np.inf  # nearer than range_min
+    ranges[42] = np.inf
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert range_noise_m(ranges) == pytest.approx(0.02, rel=0.25)
