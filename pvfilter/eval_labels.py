@@ -6,7 +6,8 @@ over scan files whose beams carry ground-truth ``labels`` (:mod:`pvfilter.labell
 the scans alone unless ``--inputs imu odometry`` gives them the robot inputs the files
 hold. Per file and filter it prints the PR curve's AUC and the precision and recall at the
 filter's operating point; then, per filter, the pooled AUC (every file's counts summed),
-the mean and lowest AUC over the files and how many fall below ``--target``. A folder
+the mean and lowest AUC over the files and how many fall below ``--target``.
+``--range-noise M`` adds Gaussian range noise first (a noisier scanner). A folder
 stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -52,6 +53,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="AUC",
         help=f"count the files below this AUC (default: {DEFAULT_TARGET_AUC})",
     )
+    parser.add_argument(
+        "--range-noise",
+        type=float,
+        default=0.0,
+        metavar="M",
+        help="add Gaussian noise of this standard deviation (m) to every finite range, the "
+        "same draws every run: a noisier scanner than the files' (default: 0, none)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -65,6 +74,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _evaluate(args: argparse.Namespace) -> int:
     if not 0.0 <= args.target <= 1.0:
         raise ValueError(f"--target: an AUC is in [0, 1], got {args.target}")
+    if not 0.0 <= args.range_noise < math.inf:
+        raise ValueError(f"--range-noise: a standard deviation >= 0 m, got {args.range_noise}")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -86,7 +97,13 @@ def _evaluate(args: argparse.Namespace) -> int:
     for path in files:
         for name, (run_entry, run_params, run_fields) in runs.items():
             report = evaluate_labelled(
-                path, run_entry, run_params, run_fields, args.inputs, name=names[path]
+                path,
+                run_entry,
+                run_params,
+                run_fields,
+                args.inputs,
+                name=names[path],
+                range_noise_m=args.range_noise,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -169,10 +186,16 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         for found in reports.values()
         for r in found
     ]
-    document = {"inputs": args.inputs, "target_auc": args.target, "summary": summaries}
+    document = {
+        "inputs": args.inputs,
+        "range_noise_m": args.range_noise,
+        "target_auc": args.target,
+        "summary": summaries,
+    }
     text = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
     (out / "report.json").write_text(text + "\n")
-    (out / "report.md").write_text(markdown(reports, summaries, args.inputs, args.target, settings))
+    text = markdown(reports, summaries, args.inputs, args.target, settings, args.range_noise)
+    (out / "report.md").write_text(text)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
 
 
@@ -187,15 +210,21 @@ def _no_nan(value):
     return value
 
 
-def markdown(reports, summaries, inputs, target, settings) -> str:
+def markdown(reports, summaries, inputs, target, settings, range_noise_m=0.0) -> str:
     """The reports as Markdown: one row per file and filter, then one per filter."""
     given = ", ".join(inputs) if inputs else "none (the scans alone)"
     ran = "; ".join(f"{name}: {settings.get(name, 'defaults')}" for name in reports)
+    noise = (
+        f" Range noise added: {range_noise_m * 100:g} cm (Gaussian, the same draws every run)."
+        if range_noise_m > 0.0
+        else ""
+    )
     lines = [
         "# Filters on labelled scans",
         "",
-        f"Robot inputs: {given}. Parameters: {ran}. Beams with a finite range count, DYNAMIC "
-        "and OCCLUDED ones excepted; positives are FLOOR, CEILING and HORIZONTAL beams.",
+        f"Robot inputs: {given}. Parameters: {ran}.{noise} Beams with a finite range count, "
+        "DYNAMIC and OCCLUDED ones excepted; positives are FLOOR, CEILING and HORIZONTAL "
+        "beams.",
         "",
         "| file | filter | AUC | precision | recall | operating point | positives | beams | "
         "FLOOR / CEILING / HORIZONTAL found | STATIC removed | geometry from the file (m) | "

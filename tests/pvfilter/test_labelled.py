@@ -9,7 +9,13 @@ import pytest
 
 from pvfilter.cli import main
 from pvfilter.io import arrays_from_scans
-from pvfilter.labelled import evaluate_labelled, geometry_of, pooled, read_labels
+from pvfilter.labelled import (
+    evaluate_labelled,
+    geometry_of,
+    pooled,
+    read_labels,
+    with_range_noise,
+)
 from pvfilter.registry import FilterEntry, filter_entry, register_filter, unregister_filter
 from pvfilter.synthetic import room_sequence
 
@@ -181,6 +187,7 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
     [
         (["missing.npz"], "missing.npz: no such file"),
         (["--set", "nonsense=1", "missing.npz"], "unknown parameter 'nonsense'"),
+        (["--range-noise", "-0.01", "missing.npz"], "--range-noise: a standard deviation"),
     ],
 )
 def test_a_user_mistake_exits_2_with_one_line(argv, message, capsys):
@@ -244,3 +251,28 @@ def test_an_out_path_that_cannot_be_a_folder_stops_before_the_work(labelled_file
     assert main(["eval-labels", str(labelled_file), "--out", str(labelled_file)]) == 2
     captured = capsys.readouterr()
     assert "cannot be a folder" in captured.err and captured.out == ""
+
+
+def test_added_range_noise_is_the_same_every_run_and_reported(labelled_file, tmp_path):
+    improved = filter_entry("improved")
+    noisy = [evaluate_labelled(labelled_file, improved, range_noise_m=0.05) for _ in range(2)]
+    np.testing.assert_array_equal(noisy[0].tp, noisy[1].tp)
+    np.testing.assert_array_equal(noisy[0].fp, noisy[1].fp)
+    quiet = evaluate_labelled(labelled_file, improved)
+    assert not (np.array_equal(quiet.tp, noisy[0].tp) and np.array_equal(quiet.fp, noisy[0].fp))
+    assert quiet.positives == noisy[0].positives  # the same beams count: finite stays finite
+    out = tmp_path / "report"
+    assert (
+        main(["eval-labels", str(labelled_file), "--range-noise", "0.05", "--out", str(out)]) == 0
+    )
+    assert json.loads((out / "report.json").read_text())["range_noise_m"] == 0.05
+    assert "Range noise added: 5 cm" in (out / "report.md").read_text()
+
+
+def test_range_noise_spares_the_beams_without_a_return():
+    scan = room_sequence(1).scans[0]
+    noisy = with_range_noise([scan], 0.05)[0]
+    finite = np.isfinite(scan.ranges)
+    np.testing.assert_array_equal(noisy.ranges[~finite], scan.ranges[~finite])
+    spread = np.std(noisy.ranges[finite] - scan.ranges[finite])
+    assert spread == pytest.approx(0.05, rel=0.15)
