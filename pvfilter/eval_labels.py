@@ -192,10 +192,10 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "target_auc": args.target,
         "summary": summaries,
     }
-    text = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
-    (out / "report.json").write_text(text + "\n")
-    text = markdown(reports, summaries, args.inputs, args.target, settings, args.range_noise)
-    (out / "report.md").write_text(text)
+    as_json = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
+    (out / "report.json").write_text(as_json + "\n")
+    as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, args.range_noise)
+    (out / "report.md").write_text(as_markdown)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
 
 

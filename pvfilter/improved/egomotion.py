@@ -59,9 +59,9 @@ ODOM_TURN_RAD = math.radians(0.5)  # rad: the odometry's turn error per step, be
 ODOM_SHIFT_M = 0.01  # m: its translation error per step, besides slip
 STEADY_TURN_RAD = 0.01  # rad: how much the turn may change in one step (constant velocity)
 STEADY_SHIFT_M = 0.03  # m: how much the translation may change in one step
-MAX_RESIDUAL_M = 0.05  # m: a fit whose median residual is larger is not trusted (the
-# level view's registration too), unless the scan is level and its range noise explains
-# it (fit_trusted)
+MAX_RESIDUAL_M = 0.05  # m: a fit (the match, the level view's registration) whose median
+# residual is larger is not trusted; a level scan's match may be, where the scan's range
+# noise explains it (fit_trusted)
 NOISE_RESIDUAL_FACTOR = 2.0  # 1: a level scan's fit whose median residual is at most this
 # many times the scan's range noise (:func:`pvfilter.improved.noise.range_noise_m`) is
 # trusted: right fits leave 0.7 to 1.3 times it (two ranges' noise seen across a surface)
