@@ -135,7 +135,7 @@ def _spread_claims(
     points = segments.points
     normals, centres = segments.normals.take(lines, axis=0), segments.centroids.take(lines, axis=0)
     # dot: the same BLAS call as @, without the matmul ufunc's layers
-    offsets = np.abs(points.dot(normals.T) - np.add.reduce(normals * centres, axis=1))
+    offsets = np.abs(points.dot(normals.T) - segments.offsets.take(lines))
     near = offsets <= (params.extend_tolerance_m + 0.01 * segments.ranges)[:, None]
     near &= points.dot(centres.T) > 0.0  # on the line's side of the sensor
     point, line = near.nonzero()  # (few: most points lie on no line)

@@ -158,8 +158,10 @@ def _corners(
     # one, and the directions at the best cut (the dearer half of the test) are then not
     # needed (a piece is cut where both tests pass, whichever is asked first)
     fits_better = least <= CORNER_FIT_GAIN * whole  # least: the total at the best cut
-    if not np.count_nonzero(fits_better):
-        return np.full(firsts.size, -1)
+    if not np.count_nonzero(fits_better):  # (most scans)
+        none = np.empty(firsts.size, dtype=np.intp)
+        none.fill(-1)  # (np.full costs a Python-level call)
+        return none
     best_tries = indices(total == least.take(piece))
     of_piece = piece.take(best_tries)
     first_of_piece = np.empty(of_piece.size, dtype=bool)

@@ -74,11 +74,14 @@ def detect_lines(
     new_valid = new.take(segments.beams)
     through_valid = None if through is None else through.take(segments.beams)
     tilted = attitude is not None and attitude.tilted
+    new_counts = None  # per segment, its new points: the scoring counts them too
     if tilted or held is not None:  # any gated segment may score
         segments = split_at_corners(segments, params)
     elif np.count_nonzero(new_valid):  # only a segment with new points can score
-        with_new = np.bincount(segments.labels, new_valid, len(segments)) > 0
-        segments = split_at_corners(segments, params, with_new)
+        new_counts = np.bincount(segments.labels, new_valid, len(segments))
+        split = split_at_corners(segments, params, new_counts > 0)
+        if split is not segments:  # cut at a corner (few scans): counted again
+            segments, new_counts = split, None
     view_valid = None
     if held is not None and level_view_m is not None:
         view_valid = level_view_m.take(segments.beams)
@@ -92,6 +95,7 @@ def detect_lines(
         through_valid,
         held,
         view_valid,
+        new_counts,
     )
     scored = np.count_nonzero(scores.scores) > 0
     if scored:

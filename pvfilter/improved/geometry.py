@@ -49,9 +49,7 @@ def axle_distances(segments: Segments, params: ImprovedParams) -> np.ndarray:
     """
     if params.lidar_ahead_m == 0.0:
         return segments.distances
-    normals, centroids = segments.normals, segments.centroids
-    along_normal = np.add.reduce(normals * centroids, axis=1)
-    return np.abs(along_normal + params.lidar_ahead_m * normals[:, 0])
+    return np.abs(segments.offsets + params.lidar_ahead_m * segments.normals[:, 0])
 
 
 def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:

@@ -207,6 +207,7 @@ def score_segments(
     through_valid: np.ndarray | None = None,
     held: HeldLine | None = None,
     view_valid: np.ndarray | None = None,
+    new_counts: np.ndarray | None = None,
 ) -> SegmentScores:
     """Score every segment (see the module docstring).
 
@@ -222,12 +223,16 @@ def score_segments(
             segment that keeps its place scores at least ``CONFIDENT_SCORE``.
         view_valid: per valid point, where the level view lies along its beam, m (NaN:
             unknown, inf: free; None: unknown everywhere).
+        new_counts: per segment, its new points, ``np.bincount(labels, new_valid)``, where
+            the caller counted them already (None: counted here).
     """
     k, labels = len(segments), segments.labels
-    any_new = np.count_nonzero(new_valid) > 0  # (count_nonzero: any() without Python layers)
+    # (count_nonzero: any() without Python layers)
+    any_new = new_counts is not None or np.count_nonzero(new_valid) > 0
     if any_new:  # the points that tell: new ones, and those seen through the view
         sizes = np.maximum(segments.sizes, 1)
-        new_counts = np.bincount(labels, new_valid, k)
+        if new_counts is None:
+            new_counts = np.bincount(labels, new_valid, k)
         through = np.zeros(k) if through_valid is None else np.bincount(labels, through_valid, k)
         told = new_counts + through
         share = new_counts / np.maximum(told + COINCIDENT_WEIGHT * (sizes - told), 1.0)

@@ -232,7 +232,8 @@ class Segments:
 
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
-        """Centroids, unit normals, distances and the two spreads of the fitted lines."""
+        """Centroids, unit normals, distances, the two spreads and the signed offsets of
+        the fitted lines."""
         k, labels, x, y = len(self), self.labels, self.points[:, 0], self.points[:, 1]
         mean_x = np.bincount(labels, x, k) / self.sizes
         mean_y = np.bincount(labels, y, k) / self.sizes
@@ -245,8 +246,8 @@ class Segments:
         np.negative(np.sin(angle), out=normals[:, 0])
         np.cos(angle, out=normals[:, 1])
         centroids[:, 0], centroids[:, 1] = mean_x, mean_y
-        distances = np.abs(mean_x * normals[:, 0] + mean_y * normals[:, 1])
-        return centroids, normals, distances, along, across
+        offsets = mean_x * normals[:, 0] + mean_y * normals[:, 1]
+        return centroids, normals, np.abs(offsets), along, across, offsets
 
     @property
     def centroids(self) -> np.ndarray:
@@ -262,6 +263,13 @@ class Segments:
     def distances(self) -> np.ndarray:
         """Distance of each segment's fitted line from the sensor, m, ``(k,)``."""
         return self._fit[2]
+
+    @property
+    def offsets(self) -> np.ndarray:
+        """Signed offset of each segment's fitted line from the sensor along its normal,
+        ``centroid . normal``, m (``distances`` is its size): the geometry and the claims
+        ask for it too, and would otherwise work it out again."""
+        return self._fit[5]
 
     @property
     def spread_along(self) -> np.ndarray:

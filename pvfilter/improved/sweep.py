@@ -149,7 +149,7 @@ def move_xy(
     turn_beams = motion.theta_rad / layout.increment
     landing = beams + turn_beams
     if layout.ring:
-        _wrap_once(landing, turn_beams, layout.count)
+        _wrap_once(landing, turn_beams, layout.count, beams is layout.every_beam())
     else:
         np.clip(landing, 0.0, layout.count - 1.0, out=landing)
     landing -= 0.5 * (layout.count - 1)
@@ -181,18 +181,26 @@ def move_xy(
     return moved_x, moved_y
 
 
-def _wrap_once(landing: np.ndarray, turn_beams: float, count: int) -> None:
+def _wrap_once(landing: np.ndarray, turn_beams: float, count: int, ascending: bool = False) -> None:
     """``landing %= count`` in place, for beams ``0 .. count - 1`` turned by ``turn_beams``.
 
     A turn of less than half a scan moves a beam at most once past the seam, on the side
     the turn goes: one conditional add or subtract then gives the float remainder's very
     values (``fmod`` is exact, and a negative value gains ``count`` just as the remainder
     adds it), at a third of its cost. Larger turns take the remainder itself.
+    ``ascending``: ``landing`` ascends (every beam, in order), so the beams past the seam
+    are a run at one end, found by a binary search and changed as a slice (the same
+    add or subtract, without a mask over every beam).
     """
     if not abs(turn_beams) < 0.5 * count:
         np.remainder(landing, count, out=landing)
     elif turn_beams >= 0.0:
-        np.subtract(landing, count, out=landing, where=landing >= count)
+        if ascending:
+            landing[landing.searchsorted(count) :] -= count  # the first at or past count on
+        else:
+            np.subtract(landing, count, out=landing, where=landing >= count)
+    elif ascending:
+        landing[: landing.searchsorted(0.0)] += count  # those below 0
     else:
         np.add(landing, count, out=landing, where=landing < 0.0)
 
