@@ -43,7 +43,13 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   little to show a floor line, meets the floor at a grazing angle that returns no echo
   on a whole run of beams and hides the wall behind it; taken for free space, the wall
   would be new when the plane levels and it returns. The surface stays in the view,
-  unconfirmed, until it is forgotten (below), and then a silent beam frees it;
+  unconfirmed, until it is forgotten (below). Nor does silence free anything on a beam
+  that has returned nothing for ``memory_timeout_s`` (the scanner's own frame: a beam
+  blind for that long is a sector the robot's body blocks, or a scanner's dead beams,
+  and what it would free moves with the world as the robot turns, onto the walls beside
+  the sector, which then stand in front of free space), nor beside a beam the scanner
+  could not measure (``NaN``, ``-inf``: a body at the edge of ``range_min`` returns now
+  and then; between two such beams a dropout is no sight of free space either);
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
@@ -123,10 +129,13 @@ class LevelMemory:
         self.state: LevelView | None = None
         self.velocity = Motion()  # the sensor's motion per second during the last scan
         self.time_increment = 0.0  # s between the beams of the last scan
+        # per beam of the scanner (not moved with the view): s since it last returned
+        self.blind_s: np.ndarray | None = None
 
     def reset(self) -> None:
         """Forget everything (a new sequence)."""
         self.state = None
+        self.blind_s = None
 
     def view(
         self,
@@ -211,6 +220,7 @@ class LevelMemory:
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
         valid = ~np.isnan(ranges)
+        blind_s = self._blind_s(valid, dt)
         if view is None:  # the first scan of a sequence: its returns (its silent beams
             # stay unknown: one scan's silence, a blinded sensor or a dark wall, is not
             # space seen free; the next silent scan frees them)
@@ -257,7 +267,8 @@ class LevelMemory:
             # no echo beside a return on the view or in front of it: a dropout of that
             # surface, not space seen free (the first and last beams have one neighbour
             # each, on a full turn too: one pair of beams, not worth a wrap)
-            surface = valid & ~beyond
+            # beside a beam the scanner could not measure either (NaN: invalid, -inf)
+            surface = (valid & ~beyond) | ~(valid | no_return)
             silent[1:] &= ~surface[:-1]
             silent[:-1] &= ~surface[1:]
             # nor where the view holds a surface: an echo lost (a floor met at a grazing
@@ -265,7 +276,8 @@ class LevelMemory:
             # on a whole run of beams) is not space seen free; the surface stays in the
             # view, unconfirmed, until it times out (``memory_timeout_s``)
             lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
-            beyond |= silent & ~lost
+            # nor on a beam blind for long (the body's sector: see the module docstring)
+            beyond |= silent & ~lost & (blind_s <= params.memory_timeout_s)
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
@@ -291,8 +303,22 @@ class LevelMemory:
         confirmed = valid | no_return  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
+        # nor does silence over a view that knows nothing (it stays unknown)
+        confirmed &= ~(no_return & np.isnan(current))
         ages[confirmed] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
+
+    def _blind_s(self, valid: np.ndarray, dt: float) -> np.ndarray:
+        """Per beam of the scanner, s since it last returned (inf: not since the sequence
+        began), with this scan's returns in."""
+        blind_s = self.blind_s
+        if blind_s is None or blind_s.size != valid.size:
+            blind_s = np.full(valid.size, np.inf)
+        else:
+            blind_s = blind_s + dt
+        blind_s[valid] = 0.0
+        self.blind_s = blind_s
+        return blind_s
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
