@@ -43,13 +43,7 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   little to show a floor line, meets the floor at a grazing angle that returns no echo
   on a whole run of beams and hides the wall behind it; taken for free space, the wall
   would be new when the plane levels and it returns. The surface stays in the view,
-  unconfirmed, until it is forgotten (below). Nor does silence free anything on a beam
-  that has returned nothing for ``memory_timeout_s`` (the scanner's own frame: a beam
-  blind for that long is a sector the robot's body blocks, or a scanner's dead beams,
-  and what it would free moves with the world as the robot turns, onto the walls beside
-  the sector, which then stand in front of free space), nor beside a beam the scanner
-  could not measure (``NaN``, ``-inf``: a body at the edge of ``range_min`` returns now
-  and then; between two such beams a dropout is no sight of free space either);
+  unconfirmed, until it is forgotten (below), and then a silent beam frees it;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
@@ -129,13 +123,10 @@ class LevelMemory:
         self.state: LevelView | None = None
         self.velocity = Motion()  # the sensor's motion per second during the last scan
         self.time_increment = 0.0  # s between the beams of the last scan
-        # per beam of the scanner (not moved with the view): s since it last returned
-        self.blind_s: np.ndarray | None = None
 
     def reset(self) -> None:
         """Forget everything (a new sequence)."""
         self.state = None
-        self.blind_s = None
 
     def view(
         self,
@@ -145,6 +136,8 @@ class LevelMemory:
         velocity: Motion,
         time_increment: float,
         params: ImprovedParams,
+        no_echo: np.ndarray | None = None,
+        returned: np.ndarray | None = None,
     ) -> LevelView:
         """The level view of each beam of the current scan: the memory moved by ``motion``.
 
@@ -152,6 +145,11 @@ class LevelMemory:
         mid-scan frame, and after the motion to where the current scan's beams see them
         (``velocity``: the sensor's motion per second now). Does not change the memory;
         :meth:`update` does, with what this returns.
+
+        ``no_echo`` and ``returned`` (bool per beam of the current scan: no echo within
+        range, a valid return; None: not known) let free space that the motion carries
+        from a beam still silent onto another beam that returns be taken for what it is:
+        no sight of free space (see the module docstring: a sector the body blocks).
         """
         state = self.state
         # free space, and an unknown beam too (fmin ignores NaN), is a point at range_max:
@@ -181,8 +179,15 @@ class LevelMemory:
         if unseen.size:  # no point landed there or beside it: the view knows nothing
             for values, nothing in zip(_carried(view), _NOTHING, strict=True):
                 values[unseen] = nothing
-        view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
+        # free space stays free: where the free point a beam was carried, and where the
+        # motion took a free point (at range_max) nearer or farther by a few centimetres
+        # (a surface at range_max, it would put every wall that comes into view in
+        # front of it)
+        view.ranges[np.isposinf(state.ranges.take(source)) & (source >= 0)] = np.inf
+        view.ranges[view.ranges >= range_max - 1e-6] = np.inf
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
+        if no_echo is not None and returned is not None:
+            _forget_carried_silence(view, state.ranges, source, layout, no_echo, returned)
         return view
 
     def update(
@@ -220,7 +225,6 @@ class LevelMemory:
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
         valid = ~np.isnan(ranges)
-        blind_s = self._blind_s(valid, dt)
         if view is None:  # the first scan of a sequence: its returns (its silent beams
             # stay unknown: one scan's silence, a blinded sensor or a dark wall, is not
             # space seen free; the next silent scan frees them)
@@ -267,8 +271,7 @@ class LevelMemory:
             # no echo beside a return on the view or in front of it: a dropout of that
             # surface, not space seen free (the first and last beams have one neighbour
             # each, on a full turn too: one pair of beams, not worth a wrap)
-            # beside a beam the scanner could not measure either (NaN: invalid, -inf)
-            surface = (valid & ~beyond) | ~(valid | no_return)
+            surface = valid & ~beyond
             silent[1:] &= ~surface[:-1]
             silent[:-1] &= ~surface[1:]
             # nor where the view holds a surface: an echo lost (a floor met at a grazing
@@ -276,8 +279,13 @@ class LevelMemory:
             # on a whole run of beams) is not space seen free; the surface stays in the
             # view, unconfirmed, until it times out (``memory_timeout_s``)
             lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
-            # nor on a beam blind for long (the body's sector: see the module docstring)
-            beyond |= silent & ~lost & (blind_s <= params.memory_timeout_s)
+            # nor beside a beam the scanner could not measure (NaN, -inf): a body at the
+            # edge of range_min reads now too close, now no echo
+            unmeasured = ~(valid | no_return)
+            beside_unmeasured = np.zeros_like(silent)
+            beside_unmeasured[1:] |= unmeasured[:-1]
+            beside_unmeasured[:-1] |= unmeasured[1:]
+            beyond |= silent & ~lost & ~beside_unmeasured
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
@@ -303,22 +311,10 @@ class LevelMemory:
         confirmed = valid | no_return  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
-        # nor does silence over a view that knows nothing (it stays unknown)
+        # nor does silence over a view that knows nothing (and keeps knowing nothing)
         confirmed &= ~(no_return & np.isnan(current))
         ages[confirmed] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
-
-    def _blind_s(self, valid: np.ndarray, dt: float) -> np.ndarray:
-        """Per beam of the scanner, s since it last returned (inf: not since the sequence
-        began), with this scan's returns in."""
-        blind_s = self.blind_s
-        if blind_s is None or blind_s.size != valid.size:
-            blind_s = np.full(valid.size, np.inf)
-        else:
-            blind_s = blind_s + dt
-        blind_s[valid] = 0.0
-        self.blind_s = blind_s
-        return blind_s
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -355,6 +351,32 @@ def nearest_by_beam(
     if not layout.ring:
         order = order[beams[order] >= 0]
     return order, nearest
+
+
+def _forget_carried_silence(
+    view: LevelView,
+    remembered: np.ndarray,
+    source: np.ndarray,
+    layout: BeamLayout,
+    no_echo: np.ndarray,
+    returned: np.ndarray,
+) -> None:
+    """Make unknown (in place) the free space (``remembered``: the memory's ranges, +inf
+    free) the motion carried onto a beam that returns now from another beam that is
+    still silent: silence that stays on its beam while the
+    sensor turns is fixed to the sensor, not to the world (a sector the robot's body
+    blocks, read as no echo), and the walls beside it stand in front of no free space.
+    Free space seen in the world moves off its beams with the turn: where it came from,
+    the scan sees something now (a wall, the floor line of a pitch event)."""
+    carried = returned & (source >= 0) & (source != layout.every_beam())
+    if not np.count_nonzero(carried):  # (most scans: no turn)
+        return
+    # free where it came from (moved, it is a point near range_max: no longer +inf)
+    carried &= np.isposinf(remembered.take(source)) & no_echo.take(source)
+    forget = indices(carried)
+    for values, nothing in zip(_carried(view), _NOTHING, strict=True):
+        values[forget] = nothing
+    view.ranges[forget] = np.nan
 
 
 def _fill_single_holes(ranges: np.ndarray, source: np.ndarray) -> None:

@@ -25,7 +25,8 @@ def ranges_of(scan):
 
 
 def gaps_against(view_scan, scan, range_max=12.0):
-    """Gaps of ``scan`` against the view of two level scans ``view_scan``."""
+    """Gaps of ``scan`` against the view of two level scans ``view_scan`` (a sequence's
+    first scan leaves its silent beams unknown; the second frees them)."""
     memory = LevelMemory()
     layout = BeamLayout.of(view_scan)
     ranges, silent = ranges_of(view_scan), np.isposinf(view_scan.ranges)
@@ -45,12 +46,12 @@ def test_a_floor_line_in_front_of_the_walls_is_new_and_the_walls_are_not():
 
 
 def test_free_space_reaches_range_max_and_no_farther():
-    # a view free up to a 4 m range limit, then the wall 3.95 m ahead comes into range: a
-    # wall at the edge of the range is not new (it was beyond the range, not in free space)
+    # nothing within a 4 m range limit, then the wall 3.95 m ahead comes into range: a wall
+    # at the edge of the range is not new (it was beyond the range, not in free space)
     level, _ = room_scan(noise_m=0.0)
+    out_of_range = level.with_ranges(np.full(len(level), np.inf))
     near = level.with_ranges(np.where(np.isfinite(level.ranges), 3.95, np.nan))
-    free = np.full(len(level), np.inf)
-    gaps = free_space_gaps(ranges_of(near), free, BeamLayout.of(level), 4.0)
+    gaps = gaps_against(out_of_range, near, range_max=4.0)
     new = new_points(gaps, ranges_of(near), 0.08, 0.015)
     np.testing.assert_allclose(gaps[near.valid_mask()], 0.05)
     assert not new.any()

@@ -190,32 +190,13 @@ def test_a_view_without_a_return_for_too_long_is_forgotten():
     assert np.isnan(view_of(memory, level, params=params).ranges).all()
 
 
-def test_silence_on_beams_that_never_returned_frees_nothing():
-    # no echo on any beam since the sequence began: the scanner may be blind there (the
-    # body's sector, dead beams), so the view stays unknown, scan after scan
+def test_no_return_remembers_free_space_once_a_second_scan_agrees():
     level, _ = room_scan(noise_m=0.0)
     open_space = level.with_ranges(np.full(len(level), np.inf))
     memory = remembered(open_space)
-    assert np.isnan(memory.state.ranges).all()
-    for _ in range(3):
-        step(memory, open_space)
-    assert np.isnan(view_of(memory, level).ranges).all()
-    assert np.isinf(memory.state.ages).all()  # and nothing confirmed
-
-
-def test_a_dropout_beside_a_beam_the_scanner_could_not_measure_frees_nothing():
-    # a body at the edge of range_min: its beams read NaN (too close) or now and then no
-    # echo at all; where the view knows nothing, such a dropout is no sight of free space
-    level, _ = room_scan(noise_m=0.0)
-    body = np.flatnonzero(np.abs(level.angles() - math.pi / 2) < math.radians(10.0))
-    too_close = level.with_ranges(
-        np.where(np.isin(np.arange(len(level)), body), np.nan, level.ranges)
-    )
-    memory = remembered(too_close)
-    dropout = too_close.ranges.copy()
-    dropout[body[len(body) // 2]] = np.inf
-    step(memory, too_close.with_ranges(dropout))
-    assert np.isnan(memory.state.ranges[body]).all()
+    assert np.isnan(memory.state.ranges).all()  # one scan's silence: unknown
+    step(memory, open_space)
+    assert np.isposinf(view_of(memory, level).ranges).all()
 
 
 def test_a_sequences_first_silent_scan_does_not_make_the_wall_behind_new():
@@ -262,9 +243,14 @@ def test_a_surface_gone_silent_is_kept_unconfirmed_until_it_times_out():
     np.testing.assert_allclose(memory.state.ranges[ahead], level.ranges[ahead])
     # unconfirmed (but the two beams beside the echoes around the run: dropouts there)
     np.testing.assert_allclose(memory.state.ages[ahead[1:-1]], 0.5)
-    for _ in range(11):  # 1.6 s in all, past memory_timeout_s (1.5 s): unknown, and it
-        step(memory, hidden)  # stays so: the beams have been blind for as long
-    assert np.isnan(view_of(memory, level).ranges[ahead[1:-1]]).all()
+    for _ in range(11):  # 1.6 s in all, past memory_timeout_s (1.5 s): unknown, then free
+        step(memory, hidden)
+    assert np.isposinf(memory.state.ranges[ahead[1:-1]]).all()
+    # no echo where the view knew nothing frees it at once, as before
+    fresh = LevelMemory()
+    fresh.update(np.full(len(level), np.nan), np.zeros(len(level), bool), None, 0.0, PARAMS, True)
+    step(fresh, hidden)
+    assert np.isposinf(fresh.state.ranges[ahead[1:-1]]).all()
 
 
 def test_a_dark_surface_in_front_of_the_view_settles_though_it_echoes_now_and_then():
