@@ -43,7 +43,17 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   little to show a floor line, meets the floor at a grazing angle that returns no echo
   on a whole run of beams and hides the wall behind it; taken for free space, the wall
   would be new when the plane levels and it returns. The surface stays in the view,
-  unconfirmed, until it is forgotten (below), and then a silent beam frees it;
+  unconfirmed, until it is forgotten (below), and then a silent beam frees it. Nor does
+  a silent beam beside a beam the scanner could not measure (``NaN``, ``-inf``) free
+  anything: a body at the edge of ``range_min`` reads now too close, now no echo;
+- free space stays free as the view moves (a free point moved off ``range_max`` is no
+  surface just inside it), except where a turn carries it from a beam that is still
+  silent onto a beam that returns now: silence that keeps to its beams while the sensor
+  turns is fixed to the sensor, not to the world (a sector the robot's body blocks,
+  which some drivers report as no echo), and the walls the turn brings beside it stand
+  in front of nothing the scanner saw free. There the view knows nothing. Free space in
+  the world moves off its beams with the turn, and where it came from the scan sees
+  something now;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
