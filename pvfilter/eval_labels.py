@@ -7,7 +7,10 @@ the scans alone unless ``--inputs imu odometry`` gives them the robot inputs the
 hold. Per file and filter it prints the PR curve's AUC and the precision and recall at the
 filter's operating point; then, per filter, the pooled AUC (every file's counts summed),
 the mean and lowest AUC over the files and how many fall below ``--target``.
-``--range-noise M`` adds Gaussian range noise first (a noisier scanner). A folder
+``--range-noise M`` adds Gaussian range noise first (a noisier scanner);
+``--occluded-reads VALUE`` reads every OCCLUDED beam as ``inf``, ``-inf`` or ``nan`` (how
+drivers report the sector the body blocks differs); ``--dropout SHARE`` loses that share of
+the returns as no echo (a scanner that misses dark or shiny surfaces). A folder
 stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -61,8 +64,27 @@ def build_parser() -> argparse.ArgumentParser:
         help="add Gaussian noise of this standard deviation (m) to every finite range, the "
         "same draws every run: a noisier scanner than the files' (default: 0, none)",
     )
+    parser.add_argument(
+        "--occluded-reads",
+        choices=sorted(OCCLUDED_READS),
+        metavar="VALUE",
+        help="read every OCCLUDED beam (the sector the robot's body blocks) as inf (no "
+        "echo, as some drivers report it), -inf (closer than range_min, REP-117) or nan "
+        "(default: as the files have them)",
+    )
+    parser.add_argument(
+        "--dropout",
+        type=float,
+        default=0.0,
+        metavar="SHARE",
+        help="lose this share (0-1) of the returns as no echo (+inf), the same draws every "
+        "run: a scanner that misses dark or shiny surfaces (default: 0, none)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
+
+
+OCCLUDED_READS = {"inf": math.inf, "-inf": -math.inf, "nan": math.nan}  # --occluded-reads
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -76,6 +98,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(f"--target: an AUC is in [0, 1], got {args.target}")
     if not 0.0 <= args.range_noise < math.inf:
         raise ValueError(f"--range-noise: a standard deviation >= 0 m, got {args.range_noise}")
+    if not 0.0 <= args.dropout <= 1.0:
+        raise ValueError(f"--dropout: a share in [0, 1], got {args.dropout}")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -104,6 +128,8 @@ def _evaluate(args: argparse.Namespace) -> int:
                 args.inputs,
                 name=names[path],
                 range_noise_m=args.range_noise,
+                occluded_reads=OCCLUDED_READS.get(args.occluded_reads),
+                dropout_share=args.dropout,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -189,12 +215,15 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
     document = {
         "inputs": args.inputs,
         "range_noise_m": args.range_noise,
+        "occluded_reads": args.occluded_reads,
+        "dropout_share": args.dropout,
         "target_auc": args.target,
         "summary": summaries,
     }
     as_json = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
     (out / "report.json").write_text(as_json + "\n")
-    as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, args.range_noise)
+    changes = _scanner_changes(args.range_noise, args.occluded_reads, args.dropout)
+    as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, changes)
     (out / "report.md").write_text(as_markdown)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
 
@@ -210,19 +239,29 @@ def _no_nan(value):
     return value
 
 
-def markdown(reports, summaries, inputs, target, settings, range_noise_m=0.0) -> str:
-    """The reports as Markdown: one row per file and filter, then one per filter."""
+def _scanner_changes(range_noise_m: float, occluded_reads: str | None, dropout: float) -> str:
+    """What the scans were changed by before the filters ran, as sentences ("" for none)."""
+    changes = ""
+    if range_noise_m > 0.0:
+        changes += (
+            f" Range noise added: {range_noise_m * 100:g} cm (Gaussian, the same draws every run)."
+        )
+    if occluded_reads is not None:
+        changes += f" Every OCCLUDED beam reads {occluded_reads}."
+    if dropout > 0.0:
+        changes += f" Returns lost as no echo: {dropout * 100:g} % (the same draws every run)."
+    return changes
+
+
+def markdown(reports, summaries, inputs, target, settings, changes="") -> str:
+    """The reports as Markdown: one row per file and filter, then one per filter;
+    ``changes``: what the scans were changed by first (:func:`_scanner_changes`)."""
     given = ", ".join(inputs) if inputs else "none (the scans alone)"
     ran = "; ".join(f"{name}: {settings.get(name, 'defaults')}" for name in reports)
-    noise = (
-        f" Range noise added: {range_noise_m * 100:g} cm (Gaussian, the same draws every run)."
-        if range_noise_m > 0.0
-        else ""
-    )
     lines = [
         "# Filters on labelled scans",
         "",
-        f"Robot inputs: {given}. Parameters: {ran}.{noise} Beams with a finite range count, "
+        f"Robot inputs: {given}. Parameters: {ran}.{changes} Beams with a finite range count, "
         "DYNAMIC and OCCLUDED ones excepted; positives are FLOOR, CEILING and HORIZONTAL "
         "beams.",
         "",

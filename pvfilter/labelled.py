@@ -43,6 +43,7 @@ LABEL_NAMES = ("NO_RETURN", "STATIC", "FLOOR", "CEILING", "HORIZONTAL", "DYNAMIC
 PITCH_VARIATION_LABELS = (2, 3, 4)  # FLOOR, CEILING, HORIZONTAL
 NOT_COUNTED_LABELS = (5, 6)  # DYNAMIC, OCCLUDED: neither hits nor false alarms
 STATIC_LABEL = 1
+OCCLUDED_LABEL = 6
 # the threshold sweep: dense near 1, where the filters' operating points are (the
 # simulator's evaluations sweep the same values)
 THRESHOLD_SWEEP: tuple[float, ...] = (
@@ -229,6 +230,41 @@ def with_range_noise(scans: Sequence[Scan], noise_m: float) -> list[Scan]:
     return noisy
 
 
+DROPOUT_SEED = 1  # the seed of the echoes dropped from a file's scans (the same every run)
+
+
+def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float) -> list[Scan]:
+    """``scans`` with every OCCLUDED beam (the sector the robot's body blocks) read as
+    ``value``: ``+inf`` as a driver that reports the body as no echo, ``-inf`` as REP-117
+    has a body closer than ``range_min``, ``NaN`` as an invalid reading.
+
+    Args:
+        scans: the file's scans.
+        labels: their beam label codes, ``(scans, beams)``.
+        value: the range every OCCLUDED beam reads, m.
+    """
+    occluded = np.asarray(labels) == OCCLUDED_LABEL
+    return [
+        scan.with_ranges(np.where(blocked, value, scan.ranges))
+        for scan, blocked in zip(scans, occluded, strict=True)
+    ]
+
+
+def with_dropouts(scans: Sequence[Scan], share: float) -> list[Scan]:
+    """``scans`` with each finite range lost (``+inf``, no echo) with probability
+    ``share``, drawn from ``DROPOUT_SEED`` in scan and beam order: the same echoes lost
+    for every filter and every run, as a scanner loses them on dark, shiny or distant
+    surfaces."""
+    rng = np.random.default_rng(DROPOUT_SEED)
+    dropped = []
+    for scan in scans:
+        ranges = np.array(scan.ranges, dtype=np.float64)
+        lost = np.isfinite(ranges) & (rng.random(ranges.size) < share)
+        ranges[lost] = np.inf
+        dropped.append(scan.with_ranges(ranges))
+    return dropped
+
+
 def evaluate_labelled(
     path: str | Path,
     entry: FilterEntry,
@@ -238,6 +274,8 @@ def evaluate_labelled(
     thresholds: Sequence[float] = THRESHOLD_SWEEP,
     name: str | None = None,
     range_noise_m: float = 0.0,
+    occluded_reads: float | None = None,
+    dropout_share: float = 0.0,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -255,6 +293,10 @@ def evaluate_labelled(
         range_noise_m: Gaussian noise added to every finite range first, one standard
             deviation, m (0: none): a noisier scanner than the file's, the same draws for
             every filter and run (:func:`with_range_noise`).
+        occluded_reads: the range every OCCLUDED beam reads instead of the file's (None:
+            the file's; :func:`with_occluded_reads`).
+        dropout_share: the share of the finite ranges lost, read as no echo, after the
+            noise (0: none; :func:`with_dropouts`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -270,9 +312,14 @@ def evaluate_labelled(
     scans = scans_from_arrays(arrays, source=source)
     if not scans:
         return None
+    labels = read_labels(arrays, source)
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
-    truth = _truth(read_labels(arrays, source), scans)
+    if occluded_reads is not None:
+        scans = with_occluded_reads(scans, labels, occluded_reads)
+    if dropout_share > 0.0:
+        scans = with_dropouts(scans, dropout_share)
+    truth = _truth(labels, scans)
     fields = dict(fields or {})
     geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
     takes = (

@@ -443,8 +443,9 @@ class ImprovedPitchVariationFilter:
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None, None
+        no_echo, returned = scan.ranges == np.inf, ranges == ranges  # (NaN compares False)
         view = self._memory.view(
-            layout, scan.range_max, step, velocity, scan.time_increment, params
+            layout, scan.range_max, step, velocity, scan.time_increment, params, no_echo, returned
         )
         self._recent.advance(step)
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
@@ -518,7 +519,7 @@ class ImprovedPitchVariationFilter:
                 return None
             moved = self._memory.view(
                 layout, scan.range_max, step.then(correction), velocity, scan.time_increment,
-                params,
+                params, scan.ranges == np.inf, ranges == ranges,
             )  # fmt: skip
             moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
             if not explains_view_error(gaps, moved_gaps, margin):

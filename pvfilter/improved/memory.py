@@ -43,7 +43,17 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   little to show a floor line, meets the floor at a grazing angle that returns no echo
   on a whole run of beams and hides the wall behind it; taken for free space, the wall
   would be new when the plane levels and it returns. The surface stays in the view,
-  unconfirmed, until it is forgotten (below), and then a silent beam frees it;
+  unconfirmed, until it is forgotten (below), and then a silent beam frees it. Nor does
+  a silent beam beside a beam the scanner could not measure (``NaN``, ``-inf``) free
+  anything: a body at the edge of ``range_min`` reads now too close, now no echo;
+- free space stays free as the view moves (a free point moved off ``range_max`` is no
+  surface just inside it), except where a turn carries it from a beam that is still
+  silent onto a beam that returns now: silence that keeps to its beams while the sensor
+  turns is fixed to the sensor, not to the world (a sector the robot's body blocks,
+  which some drivers report as no echo), and the walls the turn brings beside it stand
+  in front of nothing the scanner saw free. There the view knows nothing. Free space in
+  the world moves off its beams with the turn, and where it came from the scan sees
+  something now;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
@@ -136,6 +146,8 @@ class LevelMemory:
         velocity: Motion,
         time_increment: float,
         params: ImprovedParams,
+        no_echo: np.ndarray | None = None,
+        returned: np.ndarray | None = None,
     ) -> LevelView:
         """The level view of each beam of the current scan: the memory moved by ``motion``.
 
@@ -143,6 +155,11 @@ class LevelMemory:
         mid-scan frame, and after the motion to where the current scan's beams see them
         (``velocity``: the sensor's motion per second now). Does not change the memory;
         :meth:`update` does, with what this returns.
+
+        ``no_echo`` and ``returned`` (bool per beam of the current scan: no echo within
+        range, a valid return; None: not known) let free space that the motion carries
+        from a beam still silent onto another beam that returns be taken for what it is:
+        no sight of free space (see the module docstring: a sector the body blocks).
         """
         state = self.state
         # free space, and an unknown beam too (fmin ignores NaN), is a point at range_max:
@@ -172,8 +189,15 @@ class LevelMemory:
         if unseen.size:  # no point landed there or beside it: the view knows nothing
             for values, nothing in zip(_carried(view), _NOTHING, strict=True):
                 values[unseen] = nothing
-        view.ranges[view.ranges >= range_max - 1e-6] = np.inf  # free space stays free
+        # free space stays free: where the free point a beam was carried, and where the
+        # motion took a free point (at range_max) nearer or farther by a few centimetres
+        # (a surface at range_max, it would put every wall that comes into view in
+        # front of it)
+        view.ranges[np.isposinf(state.ranges.take(source)) & (source >= 0)] = np.inf
+        view.ranges[view.ranges >= range_max - 1e-6] = np.inf
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
+        if no_echo is not None and returned is not None:
+            _forget_carried_silence(view, state.ranges, source, layout, no_echo, returned)
         return view
 
     def update(
@@ -265,7 +289,13 @@ class LevelMemory:
             # on a whole run of beams) is not space seen free; the surface stays in the
             # view, unconfirmed, until it times out (``memory_timeout_s``)
             lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
-            beyond |= silent & ~lost
+            # nor beside a beam the scanner could not measure (NaN, -inf): a body at the
+            # edge of range_min reads now too close, now no echo
+            unmeasured = ~(valid | no_return)
+            beside_unmeasured = np.zeros_like(silent)
+            beside_unmeasured[1:] |= unmeasured[:-1]
+            beside_unmeasured[:-1] |= unmeasured[1:]
+            beyond |= silent & ~lost & ~beside_unmeasured
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
@@ -291,6 +321,8 @@ class LevelMemory:
         confirmed = valid | no_return  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
+        # nor does silence over a view that knows nothing (and keeps knowing nothing)
+        confirmed &= ~(no_return & np.isnan(current))
         ages[confirmed] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
 
@@ -329,6 +361,32 @@ def nearest_by_beam(
     if not layout.ring:
         order = order[beams[order] >= 0]
     return order, nearest
+
+
+def _forget_carried_silence(
+    view: LevelView,
+    remembered: np.ndarray,
+    source: np.ndarray,
+    layout: BeamLayout,
+    no_echo: np.ndarray,
+    returned: np.ndarray,
+) -> None:
+    """Make unknown (in place) the free space (``remembered``: the memory's ranges, +inf
+    free) the motion carried onto a beam that returns now from another beam that is
+    still silent: silence that stays on its beam while the
+    sensor turns is fixed to the sensor, not to the world (a sector the robot's body
+    blocks, read as no echo), and the walls beside it stand in front of no free space.
+    Free space seen in the world moves off its beams with the turn: where it came from,
+    the scan sees something now (a wall, the floor line of a pitch event)."""
+    carried = returned & (source >= 0) & (source != layout.every_beam())
+    if not np.count_nonzero(carried):  # (most scans: no turn)
+        return
+    # free where it came from (moved, it is a point near range_max: no longer +inf)
+    carried &= np.isposinf(remembered.take(source)) & no_echo.take(source)
+    forget = indices(carried)
+    for values, nothing in zip(_carried(view), _NOTHING, strict=True):
+        values[forget] = nothing
+    view.ranges[forget] = np.nan
 
 
 def _fill_single_holes(ranges: np.ndarray, source: np.ndarray) -> None:

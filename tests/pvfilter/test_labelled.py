@@ -14,6 +14,8 @@ from pvfilter.labelled import (
     geometry_of,
     pooled,
     read_labels,
+    with_dropouts,
+    with_occluded_reads,
     with_range_noise,
 )
 from pvfilter.registry import FilterEntry, filter_entry, register_filter, unregister_filter
@@ -188,6 +190,7 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
         (["missing.npz"], "missing.npz: no such file"),
         (["--set", "nonsense=1", "missing.npz"], "unknown parameter 'nonsense'"),
         (["--range-noise", "-0.01", "missing.npz"], "--range-noise: a standard deviation"),
+        (["--dropout", "1.5", "missing.npz"], "--dropout: a share in [0, 1]"),
     ],
 )
 def test_a_user_mistake_exits_2_with_one_line(argv, message, capsys):
@@ -276,3 +279,41 @@ def test_range_noise_spares_the_beams_without_a_return():
     np.testing.assert_array_equal(noisy.ranges[~finite], scan.ranges[~finite])
     spread = np.std(noisy.ranges[finite] - scan.ranges[finite])
     assert spread == pytest.approx(0.05, rel=0.15)
+
+
+def test_occluded_beams_read_as_asked_and_nothing_else_changes():
+    arrays, _ = labelled_arrays(count=3)
+    scans = room_sequence(3, event_every=20).scans
+    labels = arrays["labels"]
+    for value in (np.inf, -np.inf):
+        changed = with_occluded_reads(scans, labels, value)
+        for scan, new, codes in zip(scans, changed, labels, strict=True):
+            blocked = codes == OCCLUDED
+            assert blocked.any() and (new.ranges[blocked] == value).all()
+            np.testing.assert_array_equal(new.ranges[~blocked], scan.ranges[~blocked])
+
+
+def test_dropouts_lose_that_share_of_the_returns_the_same_every_run():
+    scans = room_sequence(20).scans
+    dropped = [with_dropouts(scans, 0.1) for _ in range(2)]
+    finite = np.concatenate([np.isfinite(scan.ranges) for scan in scans])
+    lost = np.concatenate([np.isposinf(d.ranges) for d in dropped[0]]) & finite
+    assert lost.sum() / finite.sum() == pytest.approx(0.1, abs=0.01)
+    for a, b in zip(*dropped, strict=True):
+        np.testing.assert_array_equal(a.ranges, b.ranges)
+    kept = np.concatenate([d.ranges for d in dropped[0]])[finite & ~lost]
+    np.testing.assert_array_equal(kept, np.concatenate([s.ranges for s in scans])[finite & ~lost])
+
+
+def test_the_scanner_changes_are_in_the_reports(labelled_file, tmp_path):
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(labelled_file), "--occluded-reads", "inf", "--dropout", "0.05"]
+    assert main([*argv, "--out", str(out)]) == 0
+    document = json.loads((out / "report.json").read_text())
+    assert document["occluded_reads"] == "inf" and document["dropout_share"] == 0.05
+    text = (out / "report.md").read_text()
+    assert "Every OCCLUDED beam reads inf." in text and "no echo: 5 %" in text
+    improved = filter_entry("improved")
+    plain = evaluate_labelled(labelled_file, improved)
+    blind = evaluate_labelled(labelled_file, improved, occluded_reads=np.inf)
+    assert plain.positives == blind.positives  # OCCLUDED beams never count

@@ -18,7 +18,13 @@ from pvfilter import (
 )
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
-from pvfilter.synthetic import ray_cast, room_segments, room_sequence, segment_scan
+from pvfilter.synthetic import (
+    BLOCKED_SECTOR,
+    ray_cast,
+    room_segments,
+    room_sequence,
+    segment_scan,
+)
 
 from .conftest import HEIGHT_M, ROOM, pitch_event, room_scan, tilted_scan, to_sensor
 
@@ -579,3 +585,19 @@ def test_the_scan_after_a_coasted_level_scan_is_matched_level():
             if k > 14:
                 assert result.lines.motion.tx_m == pytest.approx(-0.05, abs=0.01)
     assert false_alarms == 0
+
+
+@pytest.mark.parametrize("turn_rad_s", [0.3, -0.3, 0.8])
+def test_a_blocked_sector_that_returns_no_echo_removes_nothing_while_turning(turn_rad_s):
+    # a full-turn scanner whose body-blocked sector reads +inf (no echo), as some drivers
+    # report a body inside range_min: the sector's silence is no sight of free space. Taken
+    # for it, the turn carried that "free space" onto the walls beside the sector, which
+    # then stood in front of it, new, and were removed as floor lines (up to 130 beams a
+    # scan)
+    pvf = ImprovedPitchVariationFilter()
+    for k in range(40):
+        scan, _ = room_scan((0.3, 0.2, turn_rad_s * 0.1 * k), stamp=0.1 * k, seed=k)
+        angles = scan.angles()
+        blocked = (angles >= BLOCKED_SECTOR[0]) & (angles <= BLOCKED_SECTOR[1])
+        result = pvf.process(scan.with_ranges(np.where(blocked, np.inf, scan.ranges)))
+        assert not result.removed.any(), k

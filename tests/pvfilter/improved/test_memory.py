@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion
-from pvfilter.improved.memory import nearest_first
+from pvfilter.improved.memory import LevelView, nearest_first
 
 from .conftest import room_scan
 
@@ -308,3 +308,87 @@ def test_each_beam_takes_its_nearest_point_as_a_sort_by_range_gives_it():
             mine = written(beams, values, order, layout.count)
             np.testing.assert_array_equal(mine[0], expected[0])
             np.testing.assert_array_equal(mine[1], expected[1])
+
+
+def sector(scan, low_deg, high_deg):
+    """The beams of ``scan`` between two angles, deg."""
+    angles = np.degrees(scan.angles())
+    return np.flatnonzero((angles >= low_deg) & (angles <= high_deg))
+
+
+def test_free_space_stays_free_through_the_motion():
+    # free everywhere (two silent scans), then the sensor drives 0.2 m and turns: a free
+    # point moved off range_max is still free space, not a surface a few cm inside it
+    level, _ = room_scan(noise_m=0.0)
+    open_space = level.with_ranges(np.full(len(level), np.inf))
+    memory = remembered(open_space)
+    step(memory, open_space)
+    view = view_of(memory, level, Motion(math.radians(3.0), -0.2, 0.05))
+    assert np.isposinf(view.ranges).all()
+
+
+def test_silence_that_stays_on_its_beams_through_a_turn_is_not_carried_onto_walls():
+    # a 120 deg sector reads no echo (the body, as some drivers report it): freed, and the
+    # sensor turns by 5 deg. The free space the turn carries out of the sector lands on
+    # beams that see the wall now, while the beams it came from are still silent: it is
+    # fixed to the sensor, and those beams' view is unknown, not free
+    level, _ = room_scan(noise_m=0.0)
+    blocked = sector(level, -150.0, -30.0)
+    body = silent_on(level, blocked)
+    memory = remembered(body)
+    step(memory, body)
+    assert np.isposinf(memory.state.ranges[blocked[1:-1]]).all()  # freed, as any silence
+    turned, _ = room_scan((0.0, 0.0, math.radians(5.0)), noise_m=0.0)
+    turned = silent_on(turned, blocked)
+    layout = BeamLayout.of(turned)
+    no_echo, returned = np.isposinf(turned.ranges), turned.valid_mask()
+    motion = Motion(math.radians(-5.0))
+    view = memory.view(layout, 12.0, motion, STILL, 0.0, PARAMS, no_echo, returned)
+    beside = np.setdiff1d(sector(turned, -160.0, -20.0), blocked)  # the walls beside it
+    carried = beside[
+        ~np.isfinite(memory.view(layout, 12.0, motion, STILL, 0.0, PARAMS).ranges[beside])
+    ]
+    assert carried.size >= 8  # without the scan's echoes: free space carried 5 deg (10 beams)
+    assert np.isnan(view.ranges[carried]).all()
+    assert np.isposinf(view.ranges[blocked[12:-12]]).all()  # the sector itself: as it was
+
+
+def test_free_space_a_turn_carries_from_beams_that_return_now_stays_free():
+    # open space in the world: it moves off its beams with the turn, and where it came
+    # from the scan sees something now (here a floor line across it): still free there
+    level, _ = room_scan(noise_m=0.0)
+    ahead = sector(level, -30.0, 30.0)
+    open_ahead = silent_on(level, ahead)
+    memory = remembered(open_ahead)
+    step(memory, open_ahead)
+    turned, _ = room_scan((0.0, 0.0, math.radians(5.0)), noise_m=0.0)
+    turned = turned.with_ranges(
+        np.where(np.isin(np.arange(len(turned)), ahead), 2.0, turned.ranges)
+    )
+    layout = BeamLayout.of(turned)
+    no_echo, returned = np.isposinf(turned.ranges), turned.valid_mask()
+    view = memory.view(
+        layout, 12.0, Motion(math.radians(-5.0)), STILL, 0.0, PARAMS, no_echo, returned
+    )
+    assert np.isposinf(view.ranges[ahead[15:-15]]).all()
+
+
+def test_a_dropout_beside_a_beam_the_scanner_could_not_measure_frees_nothing():
+    # a body at the edge of range_min reads now too close (NaN), now no echo: where the
+    # view knows nothing, such a dropout is no sight of free space
+    level, _ = room_scan(noise_m=0.0)
+    body = sector(level, 80.0, 100.0)
+    ranges = np.where(np.isin(np.arange(len(level)), body), np.nan, level.ranges)
+    ranges[body[len(body) // 2]] = np.inf
+    memory = remembered(level)
+    memory.update(
+        ranges_of(level.with_ranges(ranges)),
+        np.isposinf(ranges),
+        LevelView.empty(len(level)),
+        0.1,
+        PARAMS,
+        True,
+    )
+    assert np.isnan(memory.state.ranges[body[len(body) // 2]])
+    # the same dropout beside returns: as before (beside a surface, a dropout of it)
+    assert not np.isposinf(memory.state.ranges).any()
