@@ -321,8 +321,6 @@ class LevelMemory:
         confirmed = valid | no_return  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
-        # nor does silence over a view that knows nothing (and keeps knowing nothing)
-        confirmed &= ~(no_return & np.isnan(current))
         ages[confirmed] = 0.0
         self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
 
@@ -381,8 +379,10 @@ def _forget_carried_silence(
     carried = returned & (source >= 0) & (source != layout.every_beam())
     if not np.count_nonzero(carried):  # (most scans: no turn)
         return
-    # free where it came from (moved, it is a point near range_max: no longer +inf)
-    carried &= np.isposinf(remembered.take(source)) & no_echo.take(source)
+    # free where it came from (moved, it is a point near range_max: no longer +inf), or
+    # unknown there (an unknown beam a silent scan confirmed is moved as free space too)
+    came_from = remembered.take(source)
+    carried &= (np.isposinf(came_from) | np.isnan(came_from)) & no_echo.take(source)
     forget = indices(carried)
     for values, nothing in zip(_carried(view), _NOTHING, strict=True):
         values[forget] = nothing
