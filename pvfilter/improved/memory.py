@@ -193,11 +193,13 @@ class LevelMemory:
         # motion took a free point (at range_max) nearer or farther by a few centimetres
         # (a surface at range_max, it would put every wall that comes into view in
         # front of it)
-        view.ranges[np.isposinf(state.ranges.take(source)) & (source >= 0)] = np.inf
+        # (a beam no point landed on, source -1, takes the last beam's here: its infinite
+        # age makes it unknown just below)
+        view.ranges[state.ranges.take(source) == np.inf] = np.inf
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
         if no_echo is not None and returned is not None:
-            _forget_carried_silence(view, state.ranges, source, layout, no_echo, returned)
+            _forget_carried_silence(view, state.ranges, source, no_echo, returned)
         return view
 
     def update(
@@ -365,24 +367,27 @@ def _forget_carried_silence(
     view: LevelView,
     remembered: np.ndarray,
     source: np.ndarray,
-    layout: BeamLayout,
     no_echo: np.ndarray,
     returned: np.ndarray,
 ) -> None:
     """Make unknown (in place) the free space (``remembered``: the memory's ranges, +inf
     free) the motion carried onto a beam that returns now from another beam that is
-    still silent: silence that stays on its beam while the
-    sensor turns is fixed to the sensor, not to the world (a sector the robot's body
-    blocks, read as no echo), and the walls beside it stand in front of no free space.
-    Free space seen in the world moves off its beams with the turn: where it came from,
-    the scan sees something now (a wall, the floor line of a pitch event)."""
-    carried = returned & (source >= 0) & (source != layout.every_beam())
-    if not np.count_nonzero(carried):  # (most scans: no turn)
+    still silent: silence that stays on its beam while the sensor turns is fixed to the
+    sensor, not to the world (a sector the robot's body blocks, read as no echo), and
+    the walls beside it stand in front of no free space. Free space seen in the world
+    moves off its beams with the turn: where it came from, the scan sees something now
+    (a wall, the floor line of a pitch event).
+
+    A beam that returns now and carries its own silent beam's values cannot be (it is
+    not silent), so no test of "moved" is needed; a beam no point landed on (source -1)
+    is unknown already.
+    """
+    # per remembered beam: free (or unknown, which a silent scan confirmed and the move
+    # makes free space too) and silent now; +inf and NaN both fail "< inf"
+    from_silence = no_echo & ~(remembered < np.inf)
+    carried = returned & from_silence.take(source)
+    if not np.count_nonzero(carried):  # (most scans: no turn, or no silence to carry)
         return
-    # free where it came from (moved, it is a point near range_max: no longer +inf), or
-    # unknown there (an unknown beam a silent scan confirmed is moved as free space too)
-    came_from = remembered.take(source)
-    carried &= (np.isposinf(came_from) | np.isnan(came_from)) & no_echo.take(source)
     forget = indices(carried)
     for values, nothing in zip(_carried(view), _NOTHING, strict=True):
         values[forget] = nothing
