@@ -305,6 +305,7 @@ class ImprovedPitchVariationFilter:
         new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
+            prepared.no_echo,
             level_ranges,
             prepared.directions,
             match.step,
@@ -419,6 +420,7 @@ class ImprovedPitchVariationFilter:
         self,
         scan: Scan,
         ranges: np.ndarray,
+        no_echo: np.ndarray,
         level_ranges: np.ndarray,
         directions: np.ndarray,
         step: Motion,
@@ -443,9 +445,9 @@ class ImprovedPitchVariationFilter:
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None, None
-        no_echo, returned = scan.ranges == np.inf, ranges == ranges  # (NaN compares False)
+        echoes = no_echo, ranges == ranges  # silent beams, and returns (NaN compares False)
         view = self._memory.view(
-            layout, scan.range_max, step, velocity, scan.time_increment, params, no_echo, returned
+            layout, scan.range_max, step, velocity, scan.time_increment, params, *echoes
         )
         self._recent.advance(step)
         gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
@@ -467,7 +469,16 @@ class ImprovedPitchVariationFilter:
         )
         if params.reanchor_view and drift:
             anchored = self._reanchor(
-                scan, ranges, level_ranges, directions, view, gaps, step, velocity, unseen_travel
+                scan,
+                ranges,
+                echoes,
+                level_ranges,
+                directions,
+                view,
+                gaps,
+                step,
+                velocity,
+                unseen_travel,
             )
             if anchored is not None:
                 view, gaps = anchored
@@ -494,6 +505,7 @@ class ImprovedPitchVariationFilter:
         self,
         scan: Scan,
         ranges: np.ndarray,
+        echoes: tuple[np.ndarray, np.ndarray],
         level_ranges: np.ndarray,
         directions: np.ndarray,
         view: LevelView,
@@ -507,7 +519,8 @@ class ImprovedPitchVariationFilter:
         the view stands (as it does at once where the registration finds it within the
         free-space margin). The memory takes the corrected view in with the scan. Where
         that fails and ``unseen_travel`` may have left the view off along x, the
-        registration starts again from a search along x."""
+        registration starts again from a search along x. ``echoes``: per beam, no echo and
+        a return (the view's move takes them: :meth:`LevelMemory.view`)."""
         layout, params = self._layout, self.params
         margin = params.free_margin_m + params.free_margin_rel * ranges
 
@@ -519,7 +532,7 @@ class ImprovedPitchVariationFilter:
                 return None
             moved = self._memory.view(
                 layout, scan.range_max, step.then(correction), velocity, scan.time_increment,
-                params, scan.ranges == np.inf, ranges == ranges,
+                params, *echoes,
             )  # fmt: skip
             moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
             if not explains_view_error(gaps, moved_gaps, margin):

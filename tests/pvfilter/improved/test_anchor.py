@@ -80,9 +80,10 @@ def test_the_filter_tries_nothing_more_where_the_view_registers_within_the_margi
     view = view_of(room_scan((0.03, 0.0, 0.0), noise_m=0.0)[0])
     gaps = free_space_gaps(ranges_of(layout_scan), view.ranges, layout, layout_scan.range_max)
     pvf._start(layout_scan)
+    echoes = np.isposinf(layout_scan.ranges), layout_scan.valid_mask()
     anchored = pvf._reanchor(
-        layout_scan, ranges_of(layout_scan), ranges_of(layout_scan), directions_of(layout_scan),
-        view, gaps, STILL, Motion(), True,
+        layout_scan, ranges_of(layout_scan), echoes, ranges_of(layout_scan),
+        directions_of(layout_scan), view, gaps, STILL, Motion(), True,
     )  # fmt: skip
     assert anchored is None and not searched
 
