@@ -189,12 +189,11 @@ class LevelMemory:
         if unseen.size:  # no point landed there or beside it: the view knows nothing
             for values, nothing in zip(_carried(view), _NOTHING, strict=True):
                 values[unseen] = nothing
-        # free space stays free: where the free point a beam was carried, and where the
-        # motion took a free point (at range_max) nearer or farther by a few centimetres
-        # (a surface at range_max, it would put every wall that comes into view in
-        # front of it)
-        # (a beam no point landed on, source -1, takes the last beam's here: its infinite
-        # age makes it unknown just below)
+        # free space stays free: where a beam was carried from a free one (moved, its point
+        # at range_max lands a few centimetres nearer or farther, and as a surface there
+        # it would put every wall coming into view in front of it; a beam no point landed
+        # on, source -1, takes the last beam's here, and its infinite age makes it
+        # unknown just below)
         view.ranges[state.ranges.take(source) == np.inf] = np.inf
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
@@ -293,11 +292,11 @@ class LevelMemory:
             lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
             # nor beside a beam the scanner could not measure (NaN, -inf): a body at the
             # edge of range_min reads now too close, now no echo
+            freed = silent & ~lost
             unmeasured = ~(valid | no_return)
-            beside_unmeasured = np.zeros_like(silent)
-            beside_unmeasured[1:] |= unmeasured[:-1]
-            beside_unmeasured[:-1] |= unmeasured[1:]
-            beyond |= silent & ~lost & ~beside_unmeasured
+            freed[1:] &= ~unmeasured[:-1]
+            freed[:-1] &= ~unmeasured[1:]
+            beyond |= freed
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
