@@ -213,6 +213,7 @@ def robot_inputs_of(
 
 
 NOISE_SEED = 0  # the seed of the range noise added to a file's scans (the same every run)
+DROPOUT_SEED = 1  # the seed of the echoes dropped from a file's scans (the same every run)
 
 
 def with_range_noise(scans: Sequence[Scan], noise_m: float) -> list[Scan]:
@@ -220,17 +221,36 @@ def with_range_noise(scans: Sequence[Scan], noise_m: float) -> list[Scan]:
     every finite range, drawn from ``NOISE_SEED`` in scan and beam order: the same noise
     for every filter and every run. A range the noise takes outside the scan's limits is
     left there: the filter sees it as the scanner would report it."""
-    rng = np.random.default_rng(NOISE_SEED)
-    noisy = []
+
+    def add_noise(ranges: np.ndarray, finite: np.ndarray, rng: np.random.Generator) -> None:
+        ranges[finite] += rng.normal(0.0, noise_m, int(np.count_nonzero(finite)))
+
+    return _drawn_per_scan(scans, NOISE_SEED, add_noise)
+
+
+def with_dropouts(scans: Sequence[Scan], share: float) -> list[Scan]:
+    """``scans`` with each finite range lost (``+inf``, no echo) with probability
+    ``share``, drawn from ``DROPOUT_SEED`` in scan and beam order: the same echoes lost
+    for every filter and every run, as a scanner loses them on dark, shiny or distant
+    surfaces."""
+
+    def drop(ranges: np.ndarray, finite: np.ndarray, rng: np.random.Generator) -> None:
+        ranges[finite & (rng.random(ranges.size) < share)] = np.inf
+
+    return _drawn_per_scan(scans, DROPOUT_SEED, drop)
+
+
+def _drawn_per_scan(scans: Sequence[Scan], seed: int, change) -> list[Scan]:
+    """``scans`` with ``change(ranges, finite, rng)`` applied in place to a copy of each
+    scan's ranges, in scan order, from one generator seeded ``seed``: the same draws
+    every run."""
+    rng = np.random.default_rng(seed)
+    changed = []
     for scan in scans:
         ranges = np.array(scan.ranges, dtype=np.float64)
-        finite = np.isfinite(ranges)
-        ranges[finite] += rng.normal(0.0, noise_m, int(np.count_nonzero(finite)))
-        noisy.append(scan.with_ranges(ranges))
-    return noisy
-
-
-DROPOUT_SEED = 1  # the seed of the echoes dropped from a file's scans (the same every run)
+        change(ranges, np.isfinite(ranges), rng)
+        changed.append(scan.with_ranges(ranges))
+    return changed
 
 
 def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float) -> list[Scan]:
@@ -248,21 +268,6 @@ def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float)
         scan.with_ranges(np.where(blocked, value, scan.ranges))
         for scan, blocked in zip(scans, occluded, strict=True)
     ]
-
-
-def with_dropouts(scans: Sequence[Scan], share: float) -> list[Scan]:
-    """``scans`` with each finite range lost (``+inf``, no echo) with probability
-    ``share``, drawn from ``DROPOUT_SEED`` in scan and beam order: the same echoes lost
-    for every filter and every run, as a scanner loses them on dark, shiny or distant
-    surfaces."""
-    rng = np.random.default_rng(DROPOUT_SEED)
-    dropped = []
-    for scan in scans:
-        ranges = np.array(scan.ranges, dtype=np.float64)
-        lost = np.isfinite(ranges) & (rng.random(ranges.size) < share)
-        ranges[lost] = np.inf
-        dropped.append(scan.with_ranges(ranges))
-    return dropped
 
 
 def evaluate_labelled(
