@@ -10,7 +10,9 @@ the mean and lowest AUC over the files and how many fall below ``--target``.
 ``--range-noise M`` adds Gaussian range noise first (a noisier scanner);
 ``--occluded-reads VALUE`` reads every OCCLUDED beam as ``inf``, ``-inf`` or ``nan`` (how
 drivers report the sector the body blocks differs); ``--dropout SHARE`` loses that share of
-the returns as no echo (a scanner that misses dark or shiny surfaces). A folder
+the returns as no echo (a scanner that misses dark or shiny surfaces); ``--no-echo-reads
+VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (how scanners
+write no echo differs; the scores count returns only). A folder
 stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -80,11 +82,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="lose this share (0-1) of the returns as no echo (+inf), the same draws every "
         "run: a scanner that misses dark or shiny surfaces (default: 0, none)",
     )
+    parser.add_argument(
+        "--no-echo-reads",
+        choices=sorted(NO_ECHO_READS),
+        metavar="VALUE",
+        help="write every beam that returned nothing (+inf) as 0, nan or range_max, as "
+        "scanners and simulators that do not follow REP-117 write it; applied last "
+        "(default: inf, as the files have it)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
 
 OCCLUDED_READS = {"inf": math.inf, "-inf": -math.inf, "nan": math.nan}  # --occluded-reads
+NO_ECHO_READS = {"0": 0.0, "nan": math.nan, "range_max": "range_max"}  # --no-echo-reads
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -130,6 +141,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 range_noise_m=args.range_noise,
                 occluded_reads=OCCLUDED_READS.get(args.occluded_reads),
                 dropout_share=args.dropout,
+                no_echo_reads=NO_ECHO_READS.get(args.no_echo_reads),
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -217,12 +229,15 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "range_noise_m": args.range_noise,
         "occluded_reads": args.occluded_reads,
         "dropout_share": args.dropout,
+        "no_echo_reads": args.no_echo_reads,
         "target_auc": args.target,
         "summary": summaries,
     }
     as_json = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
     (out / "report.json").write_text(as_json + "\n")
-    changes = _scanner_changes(args.range_noise, args.occluded_reads, args.dropout)
+    changes = _scanner_changes(
+        args.range_noise, args.occluded_reads, args.dropout, args.no_echo_reads
+    )
     as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, changes)
     (out / "report.md").write_text(as_markdown)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
@@ -239,7 +254,9 @@ def _no_nan(value):
     return value
 
 
-def _scanner_changes(range_noise_m: float, occluded_reads: str | None, dropout: float) -> str:
+def _scanner_changes(
+    range_noise_m: float, occluded_reads: str | None, dropout: float, no_echo_reads: str | None
+) -> str:
     """What the scans were changed by before the filters ran, as sentences ("" for none)."""
     changes = ""
     if range_noise_m > 0.0:
@@ -250,6 +267,8 @@ def _scanner_changes(range_noise_m: float, occluded_reads: str | None, dropout: 
         changes += f" Every OCCLUDED beam reads {occluded_reads}."
     if dropout > 0.0:
         changes += f" Returns lost as no echo: {dropout * 100:g} % (the same draws every run)."
+    if no_echo_reads is not None:
+        changes += f" Every beam without an echo reads {no_echo_reads}."
     return changes
 
 

@@ -63,7 +63,8 @@ class LabelledReport:
         file: the file's name without extension (with its folder's where names repeat).
         filter: the filter's name.
         scans: scans in the file.
-        beams: beams counted (finite range, not DYNAMIC or OCCLUDED), over the file.
+        beams: beams counted (returns, in ``[range_min, range_max)``; not DYNAMIC or
+            OCCLUDED), over the file.
         positives: of those, FLOOR, CEILING or HORIZONTAL.
         thresholds: the swept values of the filter's threshold (one, NaN, without one).
         tp, fp, fn: beam counts per swept value.
@@ -270,6 +271,18 @@ def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float)
     ]
 
 
+def with_no_echo_reads(scans: Sequence[Scan], value: float | str) -> list[Scan]:
+    """``scans`` with every beam that returned nothing (``+inf``) read as ``value``, as
+    scanners differ in writing no echo: ``0.0`` (below ``range_min``: invalid to a REP-117
+    reader), ``NaN``, or ``"range_max"``, the scan's own limit, as a clamping driver or
+    simulator writes it."""
+    changed = []
+    for scan in scans:
+        read = scan.range_max if value == "range_max" else float(value)
+        changed.append(scan.with_ranges(np.where(scan.ranges == np.inf, read, scan.ranges)))
+    return changed
+
+
 def evaluate_labelled(
     path: str | Path,
     entry: FilterEntry,
@@ -281,6 +294,7 @@ def evaluate_labelled(
     range_noise_m: float = 0.0,
     occluded_reads: float | None = None,
     dropout_share: float = 0.0,
+    no_echo_reads: float | str | None = None,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -302,6 +316,9 @@ def evaluate_labelled(
             the file's; :func:`with_occluded_reads`).
         dropout_share: the share of the finite ranges lost, read as no echo, after the
             noise (0: none; :func:`with_dropouts`).
+        no_echo_reads: what every beam without an echo reads, last (the dropouts and
+            occluded beams read as ``+inf`` included): a range, or ``"range_max"`` (None:
+            ``+inf``, as the file has it; :func:`with_no_echo_reads`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -324,6 +341,8 @@ def evaluate_labelled(
         scans = with_occluded_reads(scans, labels, occluded_reads)
     if dropout_share > 0.0:
         scans = with_dropouts(scans, dropout_share)
+    if no_echo_reads is not None:
+        scans = with_no_echo_reads(scans, no_echo_reads)
     truth = _truth(labels, scans)
     fields = dict(fields or {})
     geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
@@ -401,8 +420,11 @@ def _operating_point(entry: FilterEntry, params: Any, fields: Mapping[str, Any])
 
 
 def _truth(labels: np.ndarray, scans: Sequence[Scan]) -> _Truth:
-    finite = np.isfinite(np.stack([s.ranges for s in scans]))
-    counted = finite & ~np.isin(labels, NOT_COUNTED_LABELS)
+    """The beams scored: returns only, in ``[range_min, range_max)``. A beam a file writes
+    as ``0.0``, out of range, or at ``range_max`` (a clamping scanner's no echo) holds no
+    point to remove, whatever its label says it would have hit."""
+    returns = np.stack([s.valid_mask() & ~s.no_echo_mask() for s in scans])
+    counted = returns & ~np.isin(labels, NOT_COUNTED_LABELS)
     positive = counted & np.isin(labels, PITCH_VARIATION_LABELS)
     return _Truth(counted, positive, labels)
 

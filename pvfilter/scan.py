@@ -8,7 +8,9 @@ Beam ``i`` points at ``angle_min + i * angle_increment`` (rad, counter-clockwise
 - ``NaN``: an invalid measurement, or a beam a filter removed.
 
 Any finite range outside ``[range_min, range_max]`` is also treated as invalid (as the
-ROS message documentation asks of consumers). Invalid beams keep their slot in the array:
+ROS message documentation asks of consumers). A range of ``range_max`` itself is a return
+by REP-117, but drivers and simulators that clamp write it for no echo:
+:meth:`Scan.no_echo_mask` counts it as one. Invalid beams keep their slot in the array:
 filters never change the array length.
 """
 
@@ -25,6 +27,9 @@ import numpy as np
 MIN_ANGLE_INCREMENT = 1e-9  # rad
 MAX_ABS_ANGLE_MIN = 4.0 * math.pi  # rad
 MAX_RANGE_MAX = 1e5  # m: the longest 2D LiDARs reach a few hundred metres
+# a range this close to range_max (relative) is range_max itself, rounded to float32 as a
+# LaserScan carries it (float32 rounds by up to 6e-8)
+RANGE_LIMIT_RTOL = 1e-6
 
 
 def _read_only_float_array(name: str, values: object) -> np.ndarray:
@@ -183,6 +188,13 @@ class Scan:
         """True where the beam holds a usable return: finite and in ``[range_min, range_max]``."""
         with np.errstate(invalid="ignore"):
             return (self.ranges >= self.range_min) & (self.ranges <= self.range_max)
+
+    def no_echo_mask(self) -> np.ndarray:
+        """True where the beam returned nothing within ``range_max``: ``+inf``, or
+        ``range_max`` itself (to float32 rounding), which drivers and simulators that clamp
+        write for no echo. A return exactly at the limit says no more than that either:
+        nothing nearer along the beam."""
+        return self.ranges >= self.range_max * (1.0 - RANGE_LIMIT_RTOL)  # NaN compares False
 
     def points(self) -> np.ndarray:
         """Beam end points in the sensor frame, m, shape ``(n, 2)`` as columns x, y.

@@ -239,12 +239,15 @@ class ImprovedPitchVariationFilter:
         """The scan's valid returns, segments (in its own frame: a floor line moves with
         the sensor) and mid-scan points; and the ego-motion's prior."""
         layout = self._layout
-        # scan.valid_mask(), without its errstate guard: comparisons with NaN never warn
-        valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max)
+        # beams that returned nothing (bridged in lines, free space in the level view):
+        # a clamping scanner's range_max is no echo too, not a ring of points that turns
+        # and drives with the sensor and pins the scan match to a robot standing still
+        no_echo = scan.no_echo_mask()
+        # returns: scan.valid_mask() short of the limit (comparisons with NaN never warn)
+        valid = (scan.ranges >= scan.range_min) & ~no_echo
         ranges = np.where(valid, scan.ranges, np.nan)
         points = layout.points(ranges)
         beams = indices(valid)
-        no_echo = scan.ranges == np.inf  # beams that returned nothing: bridged in lines
         segments = segment_scan(
             points.take(beams, axis=0),
             beams,

@@ -15,6 +15,7 @@ from pvfilter.labelled import (
     pooled,
     read_labels,
     with_dropouts,
+    with_no_echo_reads,
     with_occluded_reads,
     with_range_noise,
 )
@@ -317,3 +318,49 @@ def test_the_scanner_changes_are_in_the_reports(labelled_file, tmp_path):
     plain = evaluate_labelled(labelled_file, improved)
     blind = evaluate_labelled(labelled_file, improved, occluded_reads=np.inf)
     assert plain.positives == blind.positives  # OCCLUDED beams never count
+
+
+@pytest.fixture
+def file_with_floor_past_the_range(tmp_path):
+    """The fixture's file with ten beams a scan past ``range_max`` (``+inf``) labelled
+    FLOOR, as generators label a beam by what it would hit: nothing a filter can remove."""
+    arrays, _ = labelled_arrays()
+    ranges, labels = arrays["ranges"].copy(), arrays["labels"].copy()
+    ranges[:, 100:110], labels[:, 100:110] = np.inf, FLOOR
+    path = tmp_path / "far.npz"
+    np.savez(path, **{**arrays, "ranges": ranges, "labels": labels})
+    return path
+
+
+@pytest.mark.parametrize("reads", [0.0, np.nan, "range_max"])
+def test_beams_without_a_return_are_not_scored_however_the_scanner_writes_them(
+    file_with_floor_past_the_range, reads
+):
+    improved = filter_entry("improved")
+    plain = evaluate_labelled(file_with_floor_past_the_range, improved)
+    written = evaluate_labelled(file_with_floor_past_the_range, improved, no_echo_reads=reads)
+    assert (written.positives, written.beams) == (plain.positives, plain.beams)
+    if reads == "range_max":  # the filter reads it as no echo too: the same run
+        np.testing.assert_array_equal(written.tp, plain.tp)
+        np.testing.assert_array_equal(written.fp, plain.fp)
+
+
+def test_no_echo_reads_as_asked_and_nothing_else_changes():
+    scans = room_sequence(3).scans
+    scans = [s.with_ranges(np.where(np.arange(len(s)) % 50 == 0, np.inf, s.ranges)) for s in scans]
+    for value, expected in ((0.0, 0.0), ("range_max", scans[0].range_max)):
+        for scan, new in zip(scans, with_no_echo_reads(scans, value), strict=True):
+            silent = scan.ranges == np.inf
+            assert (new.ranges[silent] == expected).all()
+            np.testing.assert_array_equal(new.ranges[~silent], scan.ranges[~silent])
+
+
+def test_the_no_echo_reads_are_in_the_reports(labelled_file, tmp_path):
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(labelled_file), "--no-echo-reads", "range_max", "--out", str(out)]
+    assert main(argv) == 0
+    assert json.loads((out / "report.json").read_text())["no_echo_reads"] == "range_max"
+    assert "Every beam without an echo reads range_max." in (out / "report.md").read_text()
+    with pytest.raises(SystemExit) as exit_info:
+        main(["eval-labels", str(labelled_file), "--no-echo-reads", "12"])
+    assert exit_info.value.code == 2

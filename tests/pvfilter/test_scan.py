@@ -51,6 +51,14 @@ def test_rep117_invalid_beams_have_nan_points():
     assert np.isfinite(points[5:]).all()
 
 
+def test_no_echo_is_plus_inf_or_range_max_itself_as_clamping_scanners_write_it():
+    range_max = 17.777015701525006  # float32 rounds it down (by 2e-8 m)
+    ranges = [np.inf, range_max, float(np.float32(range_max)), range_max - 1e-3, np.nan, -np.inf]
+    scan = make_scan(ranges, range_max=range_max)
+    assert scan.no_echo_mask().tolist() == [True, True, True, False, False, False]
+    assert not (scan.no_echo_mask() & np.isnan(scan.ranges)).any()
+
+
 def test_empty_scan_is_allowed():
     scan = make_scan([])
     assert len(scan) == 0

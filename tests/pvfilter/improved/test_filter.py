@@ -20,6 +20,7 @@ from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
 from pvfilter.synthetic import (
     BLOCKED_SECTOR,
+    cross_line,
     ray_cast,
     room_segments,
     room_sequence,
@@ -28,6 +29,7 @@ from pvfilter.synthetic import (
 
 from .conftest import HEIGHT_M, ROOM, pitch_event, room_scan, tilted_scan, to_sensor
 
+NO_SEGMENTS = np.zeros((0, 2, 2))
 CLUTTER = np.array([[[1.5, 1.0], [2.0, 1.2]], [[-2.0, -1.0], [-1.2, -1.6]]])  # world, m
 
 
@@ -585,6 +587,33 @@ def test_the_scan_after_a_coasted_level_scan_is_matched_level():
             if k > 14:
                 assert result.lines.motion.tx_m == pytest.approx(-0.05, abs=0.01)
     assert false_alarms == 0
+
+
+@pytest.mark.parametrize("no_echo_dtype", [np.float64, np.float32])
+def test_no_echo_written_as_range_max_is_no_echo(no_echo_dtype):
+    # a clamping driver or simulator writes no echo as range_max. Taken for returns, the
+    # beams that a tilt the filter did not see lifts over the wall ahead wrote a surface at
+    # range_max over the remembered wall, and the wall, back in front of it, was new: with
+    # a floor line behind, it was removed as one (515 beams over six scans)
+    room = room_segments(4.0, 3.0, 2.0, 2.0)
+    runs = {}
+    for encoding in ("inf", "range_max"):
+        pvf, runs[encoding] = ImprovedPitchVariationFilter(), []
+        for k in range(30):
+            floor = cross_line(-(1.0 + 0.2 * (k - 20)), 1.5) if 20 <= k < 23 else NO_SEGMENTS
+            rng = np.random.default_rng(k)
+            scan = segment_scan(np.concatenate((room, floor)), stamp=0.1 * k, noise_m=0.01,
+                                rng=rng, blocked=BLOCKED_SECTOR)  # fmt: skip
+            ahead = np.abs(scan.angles()) < math.radians(25.0)
+            ranges = np.where(ahead & (10 <= k < 16), np.inf, scan.ranges)  # over the wall
+            if encoding == "range_max":
+                ranges = np.where(ranges == np.inf, scan.range_max, ranges).astype(no_echo_dtype)
+            result = pvf.process(scan.with_ranges(ranges))
+            on_floor = ray_cast(floor, scan.angles()) < ray_cast(room, scan.angles())
+            assert not (result.removed & ~on_floor).any(), (encoding, k)
+            runs[encoding].append(result.removed)
+    np.testing.assert_array_equal(runs["inf"], runs["range_max"])
+    assert np.any(runs["inf"])  # the floor line was found
 
 
 @pytest.mark.parametrize("turn_rad_s", [0.3, -0.3, 0.8])
