@@ -21,11 +21,10 @@ import numpy as np
 
 from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry, robot_inputs
 from pvfilter.exits import run_command
-from pvfilter.io import read_arrays, save_results, scans_from_arrays
+from pvfilter.io import clockwise_scans, in_scan_order, read_arrays, save_results, scans_from_arrays
+from pvfilter.labelled import read_labels, truth_of
 from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
-
-PITCH_VARIATION_LABELS = (2, 3, 4)  # FLOOR, CEILING, HORIZONTAL (beam label codes)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -111,7 +110,7 @@ def _filter_file(args: argparse.Namespace) -> int:
         + f", removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
     if "labels" in arrays:
-        print(_label_score(arrays, results))
+        print(_label_score(arrays, scans, results, str(source)))
     print(f"pvfilter: wrote {output}")
     return 0
 
@@ -129,15 +128,15 @@ def _check_output(source: Path, output: Path) -> None:
             break
 
 
-def _label_score(arrays: dict[str, np.ndarray], results: list) -> str:
-    """Per-beam precision and recall against the file's ground-truth ``labels``."""
-    labels = np.asarray(arrays["labels"])
+def _label_score(arrays: dict[str, np.ndarray], scans: list, results: list, source: str) -> str:
+    """Per-beam precision and recall against the file's ground-truth ``labels``, counted
+    as ``pvfilter eval-labels`` counts them (:func:`pvfilter.labelled.truth_of`)."""
+    labels = in_scan_order(read_labels(arrays, source), clockwise_scans(arrays, len(scans)))
+    truth = truth_of(labels, scans)
     removed = np.array([r.removed for r in results], dtype=bool).reshape(labels.shape)
-    finite = np.isfinite(np.asarray(arrays["ranges"], dtype=np.float64))
-    positive = np.isin(labels, PITCH_VARIATION_LABELS) & finite
-    predicted = removed & finite
-    tp = int(np.count_nonzero(predicted & positive))
-    fp, fn = int(np.count_nonzero(predicted)) - tp, int(np.count_nonzero(positive)) - tp
+    predicted = removed & truth.counted
+    tp = int(np.count_nonzero(predicted & truth.positive))
+    fp, fn = int(np.count_nonzero(predicted)) - tp, int(np.count_nonzero(truth.positive)) - tp
     precision = tp / (tp + fp) if tp + fp else float("nan")
     recall = tp / (tp + fn) if tp + fn else float("nan")
     return (

@@ -280,9 +280,9 @@ def markdown(reports, summaries, inputs, target, settings, changes="") -> str:
     lines = [
         "# Filters on labelled scans",
         "",
-        f"Robot inputs: {given}. Parameters: {ran}.{changes} Beams with a finite range count, "
-        "DYNAMIC and OCCLUDED ones excepted; positives are FLOOR, CEILING and HORIZONTAL "
-        "beams.",
+        f"Robot inputs: {given}. Parameters: {ran}.{changes} The returns count (ranges in "
+        "[range_min, range_max)), DYNAMIC and OCCLUDED beams excepted; positives are FLOOR, "
+        "CEILING and HORIZONTAL beams.",
         "",
         "| file | filter | AUC | precision | recall | operating point | positives | beams | "
         "FLOOR / CEILING / HORIZONTAL found | STATIC removed | geometry from the file (m) | "

@@ -8,7 +8,7 @@ key                       shape       meaning
 ``ranges``                (m, n)      ranges, m, REP-117 (``inf``, ``-inf``, ``NaN``)
 ``stamps``                (m,)        scan times, s, non-decreasing
 ``angle_min``             () or (m,)  angle of beam 0, rad
-``angle_increment``       () or (m,)  angle between beams, rad, > 0
+``angle_increment``       () or (m,)  angle between beams, rad; negative: clockwise
 ``range_min``             () or (m,)  smallest valid range, m
 ``range_max``             () or (m,)  largest valid range, m
 ``time_increment``        () or (m,)  optional, s between beams (default 0)
@@ -29,6 +29,12 @@ The output file holds every input array unchanged except ``ranges``, which holds
 filtered ranges (removed beams are NaN), plus ``removed`` (bool, (m, n)) and ``scores``
 (float64, (m, n), P(C_pv) of each beam's cluster). Other input arrays (labels, say) pass
 through, so the output is itself a valid input file.
+
+A scan whose ``angle_increment`` is negative (beams clockwise, as ROS allows and some
+drivers and simulators write) is read reversed, as :meth:`Scan.counter_clockwise` reverses
+a message: the filters see its beams counter-clockwise, each at its own angle and time.
+Per-beam arrays of the file (``labels``, say) are taken in the same order with
+:func:`in_scan_order`, and the output's per-beam arrays are written back in the file's.
 """
 
 from __future__ import annotations
@@ -109,16 +115,32 @@ def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> 
     scans = []
     for i in range(count):
         try:
-            scans.append(
-                Scan(
-                    ranges=ranges[i],
-                    **{k: float(v[i]) for k, v in fields.items()},
-                    intensities=None if intensities is None else intensities[i],
-                )
+            scan, _ = Scan.counter_clockwise(
+                ranges=ranges[i],
+                **{k: float(v[i]) for k, v in fields.items()},
+                intensities=None if intensities is None else intensities[i],
             )
         except ValueError as error:
             raise ValueError(f"{source}: scan {i}: {error}") from None
+        scans.append(scan)
     return scans
+
+
+def clockwise_scans(arrays: dict[str, np.ndarray], count: int) -> np.ndarray:
+    """Which of a file's ``count`` scans run clockwise (negative ``angle_increment``),
+    bool ``(count,)``: :func:`scans_from_arrays` reads them reversed."""
+    increments = np.asarray(arrays["angle_increment"], dtype=np.float64)
+    return np.broadcast_to(increments < 0.0, (count,))
+
+
+def in_scan_order(per_beam: np.ndarray, clockwise: np.ndarray) -> np.ndarray:
+    """A file's per-beam array ``(m, n)`` in the order of the scans read from it: the rows
+    of clockwise scans reversed. The same call maps a result back to the file's order."""
+    if not np.any(clockwise):
+        return per_beam
+    ordered = np.array(per_beam)
+    ordered[clockwise] = ordered[clockwise, ::-1]
+    return ordered
 
 
 def load_scans(path: str | Path) -> list[Scan]:
@@ -160,10 +182,14 @@ def save_results(
         results: one result per scan, in order.
     """
     beams = np.shape(arrays["ranges"])[1]
+    clockwise = clockwise_scans(arrays, len(results))
     output = dict(arrays)
-    output["ranges"] = _stack([r.scan.ranges for r in results], beams, np.float64)
-    output["removed"] = _stack([r.removed for r in results], beams, bool)
-    output["scores"] = _stack([r.scores for r in results], beams, np.float64)
+    for key, values, dtype in (
+        ("ranges", [r.scan.ranges for r in results], np.float64),
+        ("removed", [r.removed for r in results], bool),
+        ("scores", [r.scores for r in results], np.float64),
+    ):
+        output[key] = in_scan_order(_stack(values, beams, dtype), clockwise)
     write_atomically(path, lambda file: np.savez_compressed(file, **output))
 
 

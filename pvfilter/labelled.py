@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from pvfilter.contract import ScanFilter
-from pvfilter.io import read_arrays, scans_from_arrays
+from pvfilter.io import clockwise_scans, in_scan_order, read_arrays, scans_from_arrays
 from pvfilter.precision_recall import PrCurve, pr_curve
 from pvfilter.registry import ROBOT_GEOMETRY_FIELDS, FilterEntry
 from pvfilter.scan import Scan
@@ -122,7 +122,7 @@ class LabelledReport:
 
 
 @dataclasses.dataclass(frozen=True)
-class _Truth:
+class BeamTruth:
     """A file's ground truth, per scan: which beams count, and which are positive."""
 
     counted: np.ndarray  # bool (m, n)
@@ -334,7 +334,7 @@ def evaluate_labelled(
     scans = scans_from_arrays(arrays, source=source)
     if not scans:
         return None
-    labels = read_labels(arrays, source)
+    labels = in_scan_order(read_labels(arrays, source), clockwise_scans(arrays, len(scans)))
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if occluded_reads is not None:
@@ -343,7 +343,7 @@ def evaluate_labelled(
         scans = with_dropouts(scans, dropout_share)
     if no_echo_reads is not None:
         scans = with_no_echo_reads(scans, no_echo_reads)
-    truth = _truth(labels, scans)
+    truth = truth_of(labels, scans)
     fields = dict(fields or {})
     geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
     takes = (
@@ -419,14 +419,16 @@ def _operating_point(entry: FilterEntry, params: Any, fields: Mapping[str, Any])
     return float(getattr(params, entry.threshold))
 
 
-def _truth(labels: np.ndarray, scans: Sequence[Scan]) -> _Truth:
-    """The beams scored: returns only, in ``[range_min, range_max)``. A beam a file writes
-    as ``0.0``, out of range, or at ``range_max`` (a clamping scanner's no echo) holds no
-    point to remove, whatever its label says it would have hit."""
+def truth_of(labels: np.ndarray, scans: Sequence[Scan]) -> BeamTruth:
+    """Which beams of ``scans`` are scored, and which of those are positive, by their
+    ``labels`` (in the scans' beam order). Scored: the returns, in ``[range_min,
+    range_max)``, but DYNAMIC and OCCLUDED beams. A beam a file writes as ``0.0``, out of
+    range, or at ``range_max`` (a clamping scanner's no echo) holds no point to remove,
+    whatever its label says it would have hit."""
     returns = np.stack([s.valid_mask() & ~s.no_echo_mask() for s in scans])
     counted = returns & ~np.isin(labels, NOT_COUNTED_LABELS)
     positive = counted & np.isin(labels, PITCH_VARIATION_LABELS)
-    return _Truth(counted, positive, labels)
+    return BeamTruth(counted, positive, labels)
 
 
 def _run(scan_filter: ScanFilter, scans: Sequence[Scan], per_scan: Sequence[dict]):
@@ -447,7 +449,7 @@ def _removed(scan_filter: ScanFilter, scans: Sequence[Scan], per_scan: Sequence[
     return np.stack([r.removed for r in results]), rate
 
 
-def _counts(removed: np.ndarray, truth: _Truth) -> np.ndarray:
+def _counts(removed: np.ndarray, truth: BeamTruth) -> np.ndarray:
     """(tp, fp, fn) of one removed mask over the counted beams."""
     predicted = removed & truth.counted
     tp = int(np.count_nonzero(predicted & truth.positive))
@@ -456,7 +458,7 @@ def _counts(removed: np.ndarray, truth: _Truth) -> np.ndarray:
     )
 
 
-def _one_pass(scan_filter, scans, per_scan, truth: _Truth, values: np.ndarray, operating: float):
+def _one_pass(scan_filter, scans, per_scan, truth: BeamTruth, values: np.ndarray, operating: float):
     """Counts per value from one pass: a beam is removed at ``v`` when its score exceeds
     ``v`` (a filter without a threshold: its removed mask, one point)."""
     results, rate = _run(scan_filter, scans, per_scan)

@@ -190,11 +190,15 @@ class Scan:
             return (self.ranges >= self.range_min) & (self.ranges <= self.range_max)
 
     def no_echo_mask(self) -> np.ndarray:
-        """True where the beam returned nothing within ``range_max``: ``+inf``, or
-        ``range_max`` itself (to float32 rounding), which drivers and simulators that clamp
-        write for no echo. A return exactly at the limit says no more than that either:
-        nothing nearer along the beam."""
-        return self.ranges >= self.range_max * (1.0 - RANGE_LIMIT_RTOL)  # NaN compares False
+        """True where the beam returned nothing within ``range_max``: ``+inf``; ``range_max``
+        itself (to float32 rounding), which drivers and simulators that clamp write for no
+        echo (a return exactly at the limit says no more: nothing nearer along the beam);
+        and ``0.0`` where ``range_min > 0``, which many low-cost scanners' drivers write for
+        it (no return can be that near)."""
+        silent = self.ranges >= self.range_max * (1.0 - RANGE_LIMIT_RTOL)  # NaN: False
+        if self.range_min > 0.0:
+            silent |= self.ranges == 0.0
+        return silent
 
     def points(self) -> np.ndarray:
         """Beam end points in the sensor frame, m, shape ``(n, 2)`` as columns x, y.

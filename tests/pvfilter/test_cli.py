@@ -43,3 +43,28 @@ def test_unreadable_file_is_an_error_not_a_traceback(tmp_path, capsys):
     assert main([str(tmp_path / "bad.npz"), str(tmp_path / "out.npz")]) == 2
     assert "stamps: missing" in capsys.readouterr().err
     assert main([str(tmp_path / "absent.npz"), str(tmp_path / "out.npz")]) == 2
+
+
+def test_a_clockwise_file_is_filtered_and_scored_as_its_scans_and_written_in_its_order(
+    tmp_path, capsys
+):
+    sequence = room_sequence(30)
+    arrays = arrays_from_scans(sequence.scans)
+    arrays["labels"] = np.where(np.array(sequence.truth), 2, 1).astype(np.uint8)  # FLOOR, STATIC
+    last = arrays["ranges"].shape[1] - 1
+    written = arrays | {
+        "ranges": arrays["ranges"][:, ::-1],
+        "labels": arrays["labels"][:, ::-1],
+        "angle_min": arrays["angle_min"] + last * arrays["angle_increment"],
+        "angle_increment": -arrays["angle_increment"],
+    }
+    lines = {}
+    for name, file_arrays in (("ccw", arrays), ("cw", written)):
+        np.savez(tmp_path / f"{name}.npz", **file_arrays)
+        assert main([str(tmp_path / f"{name}.npz"), str(tmp_path / f"{name}_out.npz")]) == 0
+        lines[name] = [line for line in capsys.readouterr().out.splitlines() if "labels" in line]
+    assert lines["cw"] == lines["ccw"] and "precision" in lines["cw"][0]
+    with np.load(tmp_path / "ccw_out.npz") as ccw, np.load(tmp_path / "cw_out.npz") as cw:
+        assert ccw["removed"].any()
+        np.testing.assert_array_equal(cw["removed"], ccw["removed"][:, ::-1])
+        np.testing.assert_array_equal(cw["ranges"], ccw["ranges"][:, ::-1])

@@ -4,7 +4,14 @@ import numpy as np
 import pytest
 
 from pvfilter import PitchVariationFilter
-from pvfilter.io import arrays_from_scans, load_scans, save_results, scans_from_arrays
+from pvfilter.io import (
+    arrays_from_scans,
+    clockwise_scans,
+    in_scan_order,
+    load_scans,
+    save_results,
+    scans_from_arrays,
+)
 from pvfilter.synthetic import room_sequence
 
 
@@ -64,10 +71,53 @@ def test_results_file_keeps_other_arrays_and_adds_masks(tmp_path):
         ({"ranges": np.ones(5)}, r"^f: ranges: must be 2-D"),
         ({"angle_min": np.zeros(2)}, r"^f: angle_min: must be one value or one per scan"),
         ({"intensities": np.ones((3, 4))}, r"^f: intensities: must have the shape"),
-        ({"angle_increment": np.array([0.1, -0.1, 0.1])}, r"^f: scan 1: angle_increment:"),
+        ({"angle_increment": np.array([0.1, 0.0, 0.1])}, r"^f: scan 1: angle_increment:"),
     ],
 )
 def test_malformed_files_raise_naming_the_key(change, message):
     arrays = {k: v for k, v in (minimal_arrays() | change).items() if v is not None}
     with pytest.raises(ValueError, match=message):
         scans_from_arrays(arrays, source="f")
+
+
+def clockwise(arrays):
+    """The same scans written clockwise, as a driver with a negative angle_increment
+    writes them: every per-beam array reversed, angle_min the last beam's angle."""
+    ranges = arrays["ranges"]
+    last = ranges.shape[1] - 1
+    flipped = {k: v[:, ::-1] for k, v in arrays.items() if np.shape(v) == ranges.shape}
+    return (
+        arrays
+        | flipped
+        | {
+            "angle_min": arrays["angle_min"] + last * arrays["angle_increment"],
+            "angle_increment": -arrays["angle_increment"],
+        }
+    )
+
+
+def test_a_clockwise_file_reads_as_its_scans_counter_clockwise_and_writes_back_in_its_order(
+    tmp_path,
+):
+    scans = room_sequence(30).scans
+    arrays = arrays_from_scans(scans) | {"labels": np.arange(30 * 720).reshape(30, 720)}
+    written = clockwise(arrays)
+    read = scans_from_arrays(written)
+    for scan, again in zip(scans, read, strict=True):
+        np.testing.assert_array_equal(again.ranges, scan.ranges)
+        np.testing.assert_allclose(again.angles(), scan.angles(), atol=1e-12)
+    assert clockwise_scans(written, 30).all() and not clockwise_scans(arrays, 30).any()
+    np.testing.assert_array_equal(in_scan_order(written["labels"], clockwise_scans(written, 30)),
+                                  arrays["labels"])  # fmt: skip
+    pvf = PitchVariationFilter()
+    results = [pvf.process(scan) for scan in read]
+    save_results(tmp_path / "out.npz", written, results)
+    with np.load(tmp_path / "out.npz") as out:
+        assert out["removed"].any()
+        np.testing.assert_array_equal(
+            out["removed"], np.array([r.removed for r in results])[:, ::-1]
+        )
+        np.testing.assert_array_equal(
+            np.isnan(out["ranges"]) & ~np.isnan(written["ranges"]), out["removed"]
+        )
+        np.testing.assert_array_equal(out["labels"], written["labels"])

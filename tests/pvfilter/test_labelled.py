@@ -364,3 +364,19 @@ def test_the_no_echo_reads_are_in_the_reports(labelled_file, tmp_path):
     with pytest.raises(SystemExit) as exit_info:
         main(["eval-labels", str(labelled_file), "--no-echo-reads", "12"])
     assert exit_info.value.code == 2
+
+
+def test_a_clockwise_file_scores_as_the_same_scans_counter_clockwise(labelled_file, tmp_path):
+    arrays = dict(np.load(labelled_file))
+    last = arrays["ranges"].shape[1] - 1
+    flipped = {k: v[:, ::-1] for k, v in arrays.items() if np.shape(v) == arrays["ranges"].shape}
+    start = arrays["angle_min"] + last * arrays["angle_increment"]
+    increment = -arrays["angle_increment"]
+    path = tmp_path / "clockwise.npz"
+    np.savez(path, **(arrays | flipped | {"angle_min": start, "angle_increment": increment}))
+    improved = filter_entry("improved")
+    plain, turned = evaluate_labelled(labelled_file, improved), evaluate_labelled(path, improved)
+    assert (turned.beams, turned.positives) == (plain.beams, plain.positives)
+    np.testing.assert_array_equal(turned.tp, plain.tp)
+    np.testing.assert_array_equal(turned.fp, plain.fp)
+    assert plain.auc > 0.9

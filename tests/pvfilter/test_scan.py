@@ -59,6 +59,11 @@ def test_no_echo_is_plus_inf_or_range_max_itself_as_clamping_scanners_write_it()
     assert not (scan.no_echo_mask() & np.isnan(scan.ranges)).any()
 
 
+def test_a_zero_range_is_no_echo_where_no_return_can_be_that_near():
+    assert make_scan([0.0, 0.05, 1.0]).no_echo_mask().tolist() == [True, False, False]
+    assert make_scan([0.0, 0.05, 1.0], range_min=0.0).no_echo_mask().tolist() == [False] * 3
+
+
 def test_empty_scan_is_allowed():
     scan = make_scan([])
     assert len(scan) == 0
