@@ -88,6 +88,12 @@ def _filter_file(args: argparse.Namespace) -> int:
     _check_output(source, output)
     arrays = read_arrays(source)
     scans = scans_from_arrays(arrays, source=str(source))
+    # labels the score needs, checked before the work: a bad one ends the command first
+    labels = None
+    if "labels" in arrays:
+        labels = in_scan_order(
+            read_labels(arrays, str(source)), clockwise_scans(arrays, len(scans))
+        )
     inputs = [{}] * len(scans) if args.scans_only else robot_inputs(arrays, len(scans), str(source))
     start = time.perf_counter()
     if args.threaded:
@@ -109,8 +115,8 @@ def _filter_file(args: argparse.Namespace) -> int:
         + (f" with {', '.join(used)}" if used else "")
         + f", removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
-    if "labels" in arrays:
-        print(_label_score(arrays, scans, results, str(source)))
+    if labels is not None and scans:
+        print(_label_score(labels, scans, results))
     print(f"pvfilter: wrote {output}")
     return 0
 
@@ -128,10 +134,10 @@ def _check_output(source: Path, output: Path) -> None:
             break
 
 
-def _label_score(arrays: dict[str, np.ndarray], scans: list, results: list, source: str) -> str:
-    """Per-beam precision and recall against the file's ground-truth ``labels``, counted
-    as ``pvfilter eval-labels`` counts them (:func:`pvfilter.labelled.truth_of`)."""
-    labels = in_scan_order(read_labels(arrays, source), clockwise_scans(arrays, len(scans)))
+def _label_score(labels: np.ndarray, scans: list, results: list) -> str:
+    """Per-beam precision and recall against the file's ground-truth ``labels`` (in the
+    scans' beam order), counted as ``pvfilter eval-labels`` counts them
+    (:func:`pvfilter.labelled.truth_of`)."""
     truth = truth_of(labels, scans)
     removed = np.array([r.removed for r in results], dtype=bool).reshape(labels.shape)
     predicted = removed & truth.counted

@@ -30,11 +30,12 @@ filtered ranges (removed beams are NaN), plus ``removed`` (bool, (m, n)) and ``s
 (float64, (m, n), P(C_pv) of each beam's cluster). Other input arrays (labels, say) pass
 through, so the output is itself a valid input file.
 
-A scan whose ``angle_increment`` is negative (beams clockwise, as ROS allows and some
-drivers and simulators write) is read reversed, as :meth:`Scan.counter_clockwise` reverses
-a message: the filters see its beams counter-clockwise, each at its own angle and time.
-Per-beam arrays of the file (``labels``, say) are taken in the same order with
-:func:`in_scan_order`, and the output's per-beam arrays are written back in the file's.
+A file whose ``angle_increment`` is negative (beams clockwise, as ROS allows and some
+drivers and simulators write; every scan of a file in one order) is read reversed, as
+:meth:`Scan.counter_clockwise` reverses a message: the filters see its beams
+counter-clockwise, each at its own angle and time. Per-beam arrays of the file
+(``labels``, say) are taken in the same order with :func:`in_scan_order`, and the
+output's per-beam arrays are written back in the file's.
 """
 
 from __future__ import annotations
@@ -109,6 +110,14 @@ def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> 
     for key in PER_SCAN_KEYS:
         if key in arrays:
             fields[key] = _per_scan(arrays, key, count, source)
+    increments = fields["angle_increment"]
+    if np.any(increments < 0.0) and np.any(increments > 0.0):
+        # (each is read counter-clockwise, its stamp moved to its first beam's time: in
+        # one file, the time between scans would swing by a sweep)
+        raise ValueError(
+            f"{source}: angle_increment: the scans run both clockwise and counter-clockwise; "
+            "a file holds scans of one order"
+        )
     intensities = arrays.get("intensities")
     if intensities is not None and np.shape(intensities) != ranges.shape:
         raise ValueError(f"{source}: intensities: must have the shape of ranges {ranges.shape}")

@@ -273,9 +273,10 @@ def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float)
 
 def with_no_echo_reads(scans: Sequence[Scan], value: float | str) -> list[Scan]:
     """``scans`` with every beam that returned nothing (``+inf``) read as ``value``, as
-    scanners differ in writing no echo: ``0.0`` (below ``range_min``: invalid to a REP-117
-    reader), ``NaN``, or ``"range_max"``, the scan's own limit, as a clamping driver or
-    simulator writes it."""
+    scanners differ in writing no echo: ``0.0`` (as many low-cost scanners' drivers do),
+    ``NaN`` (invalid, by REP-117), or ``"range_max"``, the scan's own limit, as a clamping
+    driver or simulator writes it. :meth:`Scan.no_echo_mask` reads all but ``NaN`` as no
+    echo again."""
     changed = []
     for scan in scans:
         read = scan.range_max if value == "range_max" else float(value)
@@ -422,10 +423,13 @@ def _operating_point(entry: FilterEntry, params: Any, fields: Mapping[str, Any])
 def truth_of(labels: np.ndarray, scans: Sequence[Scan]) -> BeamTruth:
     """Which beams of ``scans`` are scored, and which of those are positive, by their
     ``labels`` (in the scans' beam order). Scored: the returns, in ``[range_min,
-    range_max)``, but DYNAMIC and OCCLUDED beams. A beam a file writes as ``0.0``, out of
-    range, or at ``range_max`` (a clamping scanner's no echo) holds no point to remove,
-    whatever its label says it would have hit."""
-    returns = np.stack([s.valid_mask() & ~s.no_echo_mask() for s in scans])
+    range_max]`` but the no-echo encodings ``range_max`` itself and ``0.0``
+    (:meth:`Scan.no_echo_mask`), and not DYNAMIC or OCCLUDED. A beam a file writes out of
+    range or as no echo holds no point to remove, whatever its label says it would have
+    hit."""
+    returns = np.zeros(np.shape(labels), bool)
+    for row, scan in zip(returns, scans, strict=True):
+        row[:] = scan.valid_mask() & ~scan.no_echo_mask()
     counted = returns & ~np.isin(labels, NOT_COUNTED_LABELS)
     positive = counted & np.isin(labels, PITCH_VARIATION_LABELS)
     return BeamTruth(counted, positive, labels)

@@ -9,9 +9,9 @@ Beam ``i`` points at ``angle_min + i * angle_increment`` (rad, counter-clockwise
 
 Any finite range outside ``[range_min, range_max]`` is also treated as invalid (as the
 ROS message documentation asks of consumers). A range of ``range_max`` itself is a return
-by REP-117, but drivers and simulators that clamp write it for no echo:
-:meth:`Scan.no_echo_mask` counts it as one. Invalid beams keep their slot in the array:
-filters never change the array length.
+by REP-117, but drivers and simulators that clamp write it for no echo, as many low-cost
+scanners' drivers write ``0.0``: :meth:`Scan.no_echo_mask` counts both as no echo.
+Invalid beams keep their slot in the array: filters never change the array length.
 """
 
 from __future__ import annotations
@@ -192,13 +192,12 @@ class Scan:
     def no_echo_mask(self) -> np.ndarray:
         """True where the beam returned nothing within ``range_max``: ``+inf``; ``range_max``
         itself (to float32 rounding), which drivers and simulators that clamp write for no
-        echo (a return exactly at the limit says no more: nothing nearer along the beam);
-        and ``0.0`` where ``range_min > 0``, which many low-cost scanners' drivers write for
-        it (no return can be that near)."""
-        silent = self.ranges >= self.range_max * (1.0 - RANGE_LIMIT_RTOL)  # NaN: False
-        if self.range_min > 0.0:
-            silent |= self.ranges == 0.0
-        return silent
+        echo (a return at the very limit says no more: nothing nearer along the beam); and
+        ``0.0``, which many low-cost scanners' drivers write for it (no return comes from
+        the sensor itself). Other ranges outside ``[range_min, range_max]`` are invalid."""
+        ranges, tolerance = self.ranges, RANGE_LIMIT_RTOL * self.range_max
+        at_limit = (ranges >= self.range_max - tolerance) & (ranges <= self.range_max + tolerance)
+        return at_limit | (ranges == np.inf) | (ranges == 0.0)  # NaN compares False
 
     def points(self) -> np.ndarray:
         """Beam end points in the sensor frame, m, shape ``(n, 2)`` as columns x, y.

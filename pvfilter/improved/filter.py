@@ -32,6 +32,7 @@ from pvfilter.improved.anchor import (
     within_margin,
 )
 from pvfilter.improved.beams import BeamLayout, indices
+from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
 from pvfilter.improved.evidence import (
@@ -150,6 +151,7 @@ class ImprovedPitchVariationFilter:
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
+        self._body = BodyBeams()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
@@ -166,6 +168,7 @@ class ImprovedPitchVariationFilter:
         self._previous_stamp = None
         self._attitude.reset()
         self._roll.reset()
+        self._body.reset()
         self._line_params = self._segment_params = self._spacing_params
 
     def process(
@@ -243,9 +246,15 @@ class ImprovedPitchVariationFilter:
         # a clamping scanner's range_max is no echo too, not a ring of points that turns
         # and drives with the sensor and pins the scan match to a robot standing still
         no_echo = scan.no_echo_mask()
-        # returns: scan.valid_mask() short of the limit (comparisons with NaN never warn)
-        valid = (scan.ranges >= scan.range_min) & ~no_echo
+        # returns: scan.valid_mask() but the silent beams (comparisons with NaN never warn)
+        valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max) & ~no_echo
         ranges = np.where(valid, scan.ranges, np.nan)
+        # returns nearer than any floor line can lie are the robot's own body (a mast, a
+        # wheel, the frame in the blocked sector) or something touching it
+        body = ranges < self.params.min_line_distance_m  # NaN compares False
+        silent_body = self._body.silent_body(body, no_echo, dt, self.params.memory_timeout_s)
+        if silent_body is not None:  # the body again, too close: unmeasured (body.py)
+            no_echo = no_echo & ~silent_body
         points = layout.points(ranges)
         beams = indices(valid)
         segments = segment_scan(
@@ -265,12 +274,9 @@ class ImprovedPitchVariationFilter:
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
-        # returns nearer than any floor line can lie are the robot's own body (a mast, a
-        # wheel, the frame in the blocked sector) or something touching it: they move with
-        # the sensor, and would pin the scan match to a robot standing still (in a
-        # corridor its walls say nothing of the drive along them). The match, its
-        # reference and the world-static test leave them out.
-        body = ranges < self.params.min_line_distance_m  # NaN compares False
+        # the body moves with the sensor, and would pin the scan match to a robot standing
+        # still (in a corridor its walls say nothing of the drive along them). The match,
+        # its reference and the world-static test leave it out.
         if np.count_nonzero(body):
             mid_points[body] = np.nan
         prepared = _Prepared(
@@ -599,6 +605,7 @@ class ImprovedPitchVariationFilter:
         self._new_sequence = False
         if not fits:
             self._layout = BeamLayout.of(scan)
+            self._body.reset()
             self._spacing_params = self.params.for_beam_spacing(self._layout.increment)
             self._line_params = self._roll.applied(self._spacing_params)
             self._segment_params = self._roll.segmenting(self._spacing_params)

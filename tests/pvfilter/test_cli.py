@@ -68,3 +68,22 @@ def test_a_clockwise_file_is_filtered_and_scored_as_its_scans_and_written_in_its
         assert ccw["removed"].any()
         np.testing.assert_array_equal(cw["removed"], ccw["removed"][:, ::-1])
         np.testing.assert_array_equal(cw["ranges"], ccw["ranges"][:, ::-1])
+
+
+def test_bad_labels_end_the_command_before_the_output_is_written(scan_file, tmp_path, capsys):
+    arrays = dict(np.load(scan_file))
+    arrays["labels"] = np.full(arrays["ranges"].shape, 255, np.uint8)  # codes are 0..6
+    np.savez(tmp_path / "bad.npz", **arrays)
+    assert main([str(tmp_path / "bad.npz"), str(tmp_path / "out.npz")]) == 2
+    assert "labels: codes are 0..6" in capsys.readouterr().err
+    assert not (tmp_path / "out.npz").exists()
+
+
+def test_a_labelled_file_without_scans_is_filtered_without_a_score(scan_file, tmp_path, capsys):
+    arrays = {k: v[:0] if np.ndim(v) else v for k, v in np.load(scan_file).items()}
+    arrays["labels"] = np.zeros(arrays["ranges"].shape, np.uint8)
+    np.savez(tmp_path / "empty.npz", **arrays)
+    assert main([str(tmp_path / "empty.npz"), str(tmp_path / "out.npz")]) == 0
+    out = capsys.readouterr().out
+    assert "0 scans" in out and "labels" not in out
+    assert (tmp_path / "out.npz").exists()

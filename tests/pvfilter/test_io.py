@@ -72,6 +72,7 @@ def test_results_file_keeps_other_arrays_and_adds_masks(tmp_path):
         ({"angle_min": np.zeros(2)}, r"^f: angle_min: must be one value or one per scan"),
         ({"intensities": np.ones((3, 4))}, r"^f: intensities: must have the shape"),
         ({"angle_increment": np.array([0.1, 0.0, 0.1])}, r"^f: scan 1: angle_increment:"),
+        ({"angle_increment": np.array([0.1, -0.1, 0.1])}, r"^f: angle_increment: the scans run"),
     ],
 )
 def test_malformed_files_raise_naming_the_key(change, message):
@@ -101,11 +102,18 @@ def test_a_clockwise_file_reads_as_its_scans_counter_clockwise_and_writes_back_i
 ):
     scans = room_sequence(30).scans
     arrays = arrays_from_scans(scans) | {"labels": np.arange(30 * 720).reshape(30, 720)}
+    arrays["intensities"] = np.arange(30 * 720.0).reshape(30, 720)
     written = clockwise(arrays)
+    # the message's beam 0 is the sweep's last beam, measured 719 increments after its first
+    written["stamps"] = arrays["stamps"] + 719 * arrays["time_increment"]
+    written["time_increment"] = -arrays["time_increment"]
     read = scans_from_arrays(written)
-    for scan, again in zip(scans, read, strict=True):
+    for scan, again, shining in zip(scans, read, arrays["intensities"], strict=True):
         np.testing.assert_array_equal(again.ranges, scan.ranges)
+        np.testing.assert_array_equal(again.intensities, shining)
         np.testing.assert_allclose(again.angles(), scan.angles(), atol=1e-12)
+        assert again.stamp == pytest.approx(scan.stamp, abs=1e-12)
+        assert again.time_increment == pytest.approx(scan.time_increment, abs=1e-15)
     assert clockwise_scans(written, 30).all() and not clockwise_scans(arrays, 30).any()
     np.testing.assert_array_equal(in_scan_order(written["labels"], clockwise_scans(written, 30)),
                                   arrays["labels"])  # fmt: skip
@@ -121,3 +129,4 @@ def test_a_clockwise_file_reads_as_its_scans_counter_clockwise_and_writes_back_i
             np.isnan(out["ranges"]) & ~np.isnan(written["ranges"]), out["removed"]
         )
         np.testing.assert_array_equal(out["labels"], written["labels"])
+        np.testing.assert_array_equal(out["intensities"], written["intensities"])

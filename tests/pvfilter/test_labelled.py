@@ -340,9 +340,48 @@ def test_beams_without_a_return_are_not_scored_however_the_scanner_writes_them(
     plain = evaluate_labelled(file_with_floor_past_the_range, improved)
     written = evaluate_labelled(file_with_floor_past_the_range, improved, no_echo_reads=reads)
     assert (written.positives, written.beams) == (plain.positives, plain.beams)
-    if reads == "range_max":  # the filter reads it as no echo too: the same run
+    if reads in (0.0, "range_max"):  # the filter reads them as no echo too: the same run
         np.testing.assert_array_equal(written.tp, plain.tp)
         np.testing.assert_array_equal(written.fp, plain.fp)
+
+
+def test_a_zero_range_is_not_scored_where_range_min_is_zero_too(tmp_path):
+    arrays, _ = labelled_arrays()
+    ranges, labels = arrays["ranges"].copy(), arrays["labels"].copy()
+    ranges[:, 100:110], labels[:, 100:110] = 0.0, FLOOR  # no return, written as 0.0
+    path = tmp_path / "zero.npz"
+    np.savez(path, **{**arrays, "ranges": ranges, "labels": labels, "range_min": 0.0})
+    report = evaluate_labelled(path, filter_entry("improved"))
+    assert report.positives == np.count_nonzero(labels == FLOOR) - 10 * len(ranges)
+
+
+class Spy:
+    """A stand-in filter that keeps the ranges it was given and removes nothing."""
+
+    seen: ClassVar[list[np.ndarray]] = []
+
+    def __init__(self, params=OracleParams()):
+        Spy.seen.clear()
+
+    def process(self, scan, **inputs):
+        Spy.seen.append(np.array(scan.ranges))
+        nothing = np.zeros(len(scan), bool)
+        return type("Result", (), {"removed": nothing, "scores": nothing * 1.0})()
+
+    def reset(self):
+        Spy.seen.clear()
+
+
+@pytest.mark.parametrize(("reads", "expected"), [(0.0, 0.0), ("range_max", 12.0)])
+def test_the_filters_get_the_no_echo_as_asked(file_with_floor_past_the_range, reads, expected):
+    entry = register_filter(FilterEntry("spy", Spy, OracleParams, "keeps what it sees"))
+    try:
+        evaluate_labelled(file_with_floor_past_the_range, entry, no_echo_reads=reads)
+    finally:
+        unregister_filter("spy")
+    seen = np.array(Spy.seen)
+    assert not np.isposinf(seen).any()
+    assert (seen[:, 100:110] == expected).all()
 
 
 def test_no_echo_reads_as_asked_and_nothing_else_changes():

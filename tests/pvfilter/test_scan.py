@@ -51,17 +51,13 @@ def test_rep117_invalid_beams_have_nan_points():
     assert np.isfinite(points[5:]).all()
 
 
-def test_no_echo_is_plus_inf_or_range_max_itself_as_clamping_scanners_write_it():
+def test_no_echo_is_plus_inf_range_max_itself_or_zero_as_scanners_write_it():
     range_max = 17.777015701525006  # float32 rounds it down (by 2e-8 m)
-    ranges = [np.inf, range_max, float(np.float32(range_max)), range_max - 1e-3, np.nan, -np.inf]
-    scan = make_scan(ranges, range_max=range_max)
-    assert scan.no_echo_mask().tolist() == [True, True, True, False, False, False]
-    assert not (scan.no_echo_mask() & np.isnan(scan.ranges)).any()
-
-
-def test_a_zero_range_is_no_echo_where_no_return_can_be_that_near():
-    assert make_scan([0.0, 0.05, 1.0]).no_echo_mask().tolist() == [True, False, False]
-    assert make_scan([0.0, 0.05, 1.0], range_min=0.0).no_echo_mask().tolist() == [False] * 3
+    ranges = [np.inf, range_max, float(np.float32(range_max)), 0.0]
+    others = [range_max - 1e-3, range_max + 1e-3, 65.533, 0.01, np.nan, -np.inf]
+    scan = make_scan(ranges + others, range_max=range_max)
+    assert scan.no_echo_mask().tolist() == [True] * 4 + [False] * 6
+    assert make_scan([0.0, 1.0], range_min=0.0).no_echo_mask().tolist() == [True, False]
 
 
 def test_empty_scan_is_allowed():

@@ -608,6 +608,7 @@ def test_no_echo_written_as_range_max_or_zero_is_no_echo(no_echo, dtype):
             rng = np.random.default_rng(k)
             scan = segment_scan(np.concatenate((room, floor)), stamp=0.1 * k, noise_m=0.01,
                                 rng=rng, blocked=BLOCKED_SECTOR)  # fmt: skip
+            scan = dataclasses.replace(scan, range_max=11.7)  # (not a float32 number)
             ahead = np.abs(scan.angles()) < math.radians(25.0)
             ranges = np.where(ahead & (10 <= k < 16), np.inf, scan.ranges)  # over the wall
             if encoding == "written":
@@ -645,6 +646,27 @@ def test_floor_lines_in_front_of_open_space_are_found_however_no_echo_is_written
         false_alarms += np.count_nonzero(result.removed & ~on_floor)
     assert floor_beams > 1000
     assert hits / floor_beams > 0.95 and false_alarms < 0.01 * floor_beams
+
+
+@pytest.mark.parametrize("too_close", [0.0, np.inf, -np.inf])
+def test_a_body_at_the_edge_of_range_min_frees_nothing_however_too_close_is_written(too_close):
+    # the blocked sector holds the robot's body at 5 +- 1 cm, range_min 5 cm: its beams
+    # read now a return, now too close, which drivers write as -inf (REP-117), 0.0 or
+    # +inf. Read as no echo, the silent beams freed space that the turns carried onto the
+    # walls beside the sector, which were new: up to 83 beams a scan removed
+    pitch_events = [pitch_event(start, 6, 8.0) for start in (15, 40, 65)]
+    pvf, false_alarms = ImprovedPitchVariationFilter(), 0
+    for k in range(80):
+        pitch = sum(event(k) for event in pitch_events)
+        scan, hit = room_scan((-0.5 + 0.02 * k, 0.0, 0.05 * k), pitch, stamp=0.1 * k, seed=k)
+        angles = scan.angles()
+        blocked = (angles >= BLOCKED_SECTOR[0]) & (angles <= BLOCKED_SECTOR[1])
+        body = 0.05 + np.random.default_rng(1000 + k).normal(0.0, 0.01, np.count_nonzero(blocked))
+        ranges = scan.ranges.copy()
+        ranges[blocked] = np.where(body < scan.range_min, too_close, body)
+        result = pvf.process(scan.with_ranges(ranges))
+        false_alarms += np.count_nonzero(result.removed & ~hit)
+    assert false_alarms <= 15
 
 
 @pytest.mark.parametrize("turn_rad_s", [0.3, -0.3, 0.8])
