@@ -9,6 +9,9 @@ import numpy as np
 
 from pvfilter.scan import Scan
 
+FIT_TOLERANCE_BEAMS = 2.0  # beams: how far a scan's beams may lie from a layout's and
+# still be taken for them (a driver's angle_min jitters by a fraction of a beam)
+
 
 def indices(mask: np.ndarray) -> np.ndarray:
     """Indices where a 1-D mask is true (``np.flatnonzero`` without its Python layers)."""
@@ -47,12 +50,22 @@ class BeamLayout:
         )
 
     def fits(self, scan: Scan) -> bool:
-        """``scan`` has this layout."""
-        return (
-            len(scan) == self.count
-            and scan.angle_min == self.angle_min
-            and scan.angle_increment == self.increment
-        )
+        """``scan``'s beams are this layout's, each within ``FIT_TOLERANCE_BEAMS`` beams.
+
+        Drivers that take ``angle_min`` from the first sample of each turn move it by a
+        fraction of a beam from scan to scan. Taken for a new layout, every scan started
+        the filter afresh, and it found nothing. Within the tolerance the filter works in
+        this layout's frame, turned by that fraction from the scan's: its scan match takes
+        the turn for the sensor's, as the level view's move does.
+        """
+        if len(scan) != self.count:
+            return False
+        if scan.angle_min == self.angle_min and scan.angle_increment == self.increment:
+            return True
+        last = self.count - 1
+        shift = scan.angle_min - self.angle_min
+        last_off = abs(shift + last * (scan.angle_increment - self.increment))
+        return max(abs(shift), last_off) <= FIT_TOLERANCE_BEAMS * self.increment
 
     def points(self, ranges: np.ndarray) -> np.ndarray:
         """Sensor-frame points of per-beam ranges, m, ``(count, 2)`` (NaN stays NaN)."""

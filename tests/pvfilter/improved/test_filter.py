@@ -669,6 +669,29 @@ def test_a_body_at_the_edge_of_range_min_frees_nothing_however_too_close_is_writ
     assert false_alarms <= 15
 
 
+def test_an_angle_min_that_jitters_by_a_fraction_of_a_beam_keeps_the_layout():
+    # drivers that take angle_min from each turn's first sample move it by a fraction of
+    # a beam from scan to scan: taken for a new layout, every scan started afresh, and
+    # nothing was ever removed
+    increment = 2.0 * math.pi / 720
+    jitters = np.random.default_rng(0).uniform(-0.5, 0.5, 40) * increment
+    counts = {}
+    for jittered in (False, True):
+        pvf, hits, false_alarms = ImprovedPitchVariationFilter(), 0, 0
+        for k, jitter in enumerate(jitters if jittered else np.zeros(40)):
+            pose = (-1.0 + 0.06 * k, 0.0, jitter)  # the beams turned by the jitter
+            pitch = pitch_event(10, 8, 8.0)(k)
+            scan, on_floor = room_scan(pose, pitch, stamp=0.1 * k, seed=k, extra=CLUTTER)
+            scan = dataclasses.replace(scan, angle_min=scan.angle_min + jitter)
+            result = pvf.process(scan)
+            hits += np.count_nonzero(result.removed & on_floor)
+            false_alarms += np.count_nonzero(result.removed & ~on_floor)
+        counts[jittered] = hits, false_alarms
+    assert counts[False][0] > 500
+    assert counts[True][0] >= 0.95 * counts[False][0]
+    assert counts[True][1] <= counts[False][1] + 10
+
+
 @pytest.mark.parametrize("turn_rad_s", [0.3, -0.3, 0.8])
 def test_a_blocked_sector_that_returns_no_echo_removes_nothing_while_turning(turn_rad_s):
     # a full-turn scanner whose body-blocked sector reads +inf (no echo), as some drivers
