@@ -12,7 +12,9 @@ the mean and lowest AUC over the files and how many fall below ``--target``.
 drivers report the sector the body blocks differs); ``--dropout SHARE`` loses that share of
 the returns as no echo (a scanner that misses dark or shiny surfaces); ``--no-echo-reads
 VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (how scanners
-write no echo differs; the scores count returns only). A folder
+write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
+scan's ``angle_min`` within half that many beams either way (drivers that take it from each
+turn's first sample). A folder
 stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -90,11 +92,21 @@ def build_parser() -> argparse.ArgumentParser:
         "scanners and simulators that do not follow REP-117 write it; applied last "
         "(default: inf, as the files have it)",
     )
+    parser.add_argument(
+        "--angle-jitter",
+        type=float,
+        default=0.0,
+        metavar="BEAMS",
+        help="move each scan's angle_min by a uniform draw within half this many beams "
+        "either way, the same draws every run: drivers that take it from each turn's first "
+        "sample (default: 0, none)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
 
 OCCLUDED_READS = {"inf": math.inf, "-inf": -math.inf, "nan": math.nan}  # --occluded-reads
+MAX_ANGLE_JITTER_BEAMS = 100.0  # --angle-jitter: beyond this it is no jitter but a turn
 NO_ECHO_READS = {"0": 0.0, "nan": math.nan, "range_max": "range_max"}  # --no-echo-reads
 
 
@@ -111,6 +123,10 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(f"--range-noise: a standard deviation >= 0 m, got {args.range_noise}")
     if not 0.0 <= args.dropout <= 1.0:
         raise ValueError(f"--dropout: a share in [0, 1], got {args.dropout}")
+    if not 0.0 <= args.angle_jitter <= MAX_ANGLE_JITTER_BEAMS:
+        raise ValueError(
+            f"--angle-jitter: beams in [0, {MAX_ANGLE_JITTER_BEAMS:g}], got {args.angle_jitter}"
+        )
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -142,6 +158,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 occluded_reads=OCCLUDED_READS.get(args.occluded_reads),
                 dropout_share=args.dropout,
                 no_echo_reads=NO_ECHO_READS.get(args.no_echo_reads),
+                angle_jitter_beams=args.angle_jitter,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -230,14 +247,13 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "occluded_reads": args.occluded_reads,
         "dropout_share": args.dropout,
         "no_echo_reads": args.no_echo_reads,
+        "angle_jitter_beams": args.angle_jitter,
         "target_auc": args.target,
         "summary": summaries,
     }
     as_json = json.dumps(_no_nan({**document, "files": rows}), indent=1, allow_nan=False)
     (out / "report.json").write_text(as_json + "\n")
-    changes = _scanner_changes(
-        args.range_noise, args.occluded_reads, args.dropout, args.no_echo_reads
-    )
+    changes = _scanner_changes(args)
     as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, changes)
     (out / "report.md").write_text(as_markdown)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
@@ -254,21 +270,25 @@ def _no_nan(value):
     return value
 
 
-def _scanner_changes(
-    range_noise_m: float, occluded_reads: str | None, dropout: float, no_echo_reads: str | None
-) -> str:
+def _scanner_changes(args: argparse.Namespace) -> str:
     """What the scans were changed by before the filters ran, as sentences ("" for none)."""
     changes = ""
-    if range_noise_m > 0.0:
+    if args.range_noise > 0.0:
         changes += (
-            f" Range noise added: {range_noise_m * 100:g} cm (Gaussian, the same draws every run)."
+            f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "
+            "every run)."
         )
-    if occluded_reads is not None:
-        changes += f" Every OCCLUDED beam reads {occluded_reads}."
-    if dropout > 0.0:
-        changes += f" Returns lost as no echo: {dropout * 100:g} % (the same draws every run)."
-    if no_echo_reads is not None:
-        changes += f" Every beam without an echo reads {no_echo_reads}."
+    if args.occluded_reads is not None:
+        changes += f" Every OCCLUDED beam reads {args.occluded_reads}."
+    if args.dropout > 0.0:
+        changes += f" Returns lost as no echo: {args.dropout * 100:g} % (the same draws every run)."
+    if args.no_echo_reads is not None:
+        changes += f" Every beam without an echo reads {args.no_echo_reads}."
+    if args.angle_jitter > 0.0:
+        changes += (
+            f" Each scan's angle_min moved within {args.angle_jitter / 2:g} beam either way "
+            "(the same draws every run)."
+        )
     return changes
 
 

@@ -215,6 +215,7 @@ def robot_inputs_of(
 
 NOISE_SEED = 0  # the seed of the range noise added to a file's scans (the same every run)
 DROPOUT_SEED = 1  # the seed of the echoes dropped from a file's scans (the same every run)
+JITTER_SEED = 2  # the seed of the angle_min jitter of a file's scans (the same every run)
 
 
 def with_range_noise(scans: Sequence[Scan], noise_m: float) -> list[Scan]:
@@ -252,6 +253,19 @@ def _drawn_per_scan(scans: Sequence[Scan], seed: int, change) -> list[Scan]:
         change(ranges, np.isfinite(ranges), rng)
         changed.append(scan.with_ranges(ranges))
     return changed
+
+
+def with_angle_jitter(scans: Sequence[Scan], beams: float) -> list[Scan]:
+    """``scans`` with each ``angle_min`` moved by a uniform draw within ``beams`` / 2 of
+    a beam either way, from ``JITTER_SEED`` in scan order, the ranges kept: as drivers
+    that take ``angle_min`` from each turn's first sample write it. Each scan is the one
+    a sensor turned by that fraction of a beam would see: its beams hit what they hit."""
+    rng = np.random.default_rng(JITTER_SEED)
+    shifts = rng.uniform(-0.5, 0.5, len(scans)) * beams
+    return [
+        dataclasses.replace(scan, angle_min=scan.angle_min + shift * scan.angle_increment)
+        for scan, shift in zip(scans, shifts, strict=True)
+    ]
 
 
 def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float) -> list[Scan]:
@@ -296,6 +310,7 @@ def evaluate_labelled(
     occluded_reads: float | None = None,
     dropout_share: float = 0.0,
     no_echo_reads: float | str | None = None,
+    angle_jitter_beams: float = 0.0,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -320,6 +335,8 @@ def evaluate_labelled(
         no_echo_reads: what every beam without an echo reads, last (the dropouts and
             occluded beams read as ``+inf`` included): a range, or ``"range_max"`` (None:
             ``+inf``, as the file has it; :func:`with_no_echo_reads`).
+        angle_jitter_beams: each scan's ``angle_min`` moved within half this many beams
+            either way (0: none; :func:`with_angle_jitter`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -344,6 +361,8 @@ def evaluate_labelled(
         scans = with_dropouts(scans, dropout_share)
     if no_echo_reads is not None:
         scans = with_no_echo_reads(scans, no_echo_reads)
+    if angle_jitter_beams > 0.0:
+        scans = with_angle_jitter(scans, angle_jitter_beams)
     truth = truth_of(labels, scans)
     fields = dict(fields or {})
     geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}

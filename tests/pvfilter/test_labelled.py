@@ -14,6 +14,7 @@ from pvfilter.labelled import (
     geometry_of,
     pooled,
     read_labels,
+    with_angle_jitter,
     with_dropouts,
     with_no_echo_reads,
     with_occluded_reads,
@@ -419,3 +420,26 @@ def test_a_clockwise_file_scores_as_the_same_scans_counter_clockwise(labelled_fi
     np.testing.assert_array_equal(turned.tp, plain.tp)
     np.testing.assert_array_equal(turned.fp, plain.fp)
     assert plain.auc > 0.9
+
+
+def test_angle_jitter_moves_each_angle_min_within_half_the_beams_the_same_every_run():
+    scans = room_sequence(50).scans
+    moved = [with_angle_jitter(scans, 1.0) for _ in range(2)]
+    shifts = np.array([(m.angle_min - s.angle_min) / s.angle_increment
+                       for s, m in zip(scans, moved[0], strict=True)])  # fmt: skip
+    assert np.abs(shifts).max() <= 0.5 and np.abs(shifts).max() > 0.4 and np.std(shifts) > 0.2
+    for a, b, scan in zip(*moved, scans, strict=True):
+        assert a.angle_min == b.angle_min
+        np.testing.assert_array_equal(a.ranges, scan.ranges)
+
+
+def test_the_improved_filter_scores_a_jittered_angle_min_as_the_file(labelled_file, tmp_path):
+    improved = filter_entry("improved")
+    plain = evaluate_labelled(labelled_file, improved)
+    jittered = evaluate_labelled(labelled_file, improved, angle_jitter_beams=1.0)
+    assert jittered.auc > plain.auc - 0.02 and plain.auc > 0.9
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(labelled_file), "--angle-jitter", "1", "--out", str(out)]) == 0
+    assert json.loads((out / "report.json").read_text())["angle_jitter_beams"] == 1.0
+    assert "angle_min moved within 0.5 beam" in (out / "report.md").read_text()
+    assert main(["eval-labels", str(labelled_file), "--angle-jitter", "-1"]) == 2
