@@ -17,6 +17,7 @@ __version__ = "0.1.0"  # the robot distribution (packages/pvfilter) reads it fro
 from pvfilter.clusters import ClusterSet, ClusterView
 from pvfilter.contract import ROBOT_INPUTS, ScanFilter
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter, ImprovedResult
+from pvfilter.improved.imu import ImuSignWarning
 from pvfilter.paper import (
     ClusterRecord,
     Detection,
@@ -54,6 +55,7 @@ __all__ = [
     "ImprovedParams",
     "ImprovedPitchVariationFilter",
     "ImprovedResult",
+    "ImuSignWarning",
     "PaperResult",
     "PitchVariationFilter",
     "Scan",

@@ -14,8 +14,8 @@ the returns as no echo (a scanner that misses dark or shiny surfaces); ``--no-ec
 VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (how scanners
 write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
-turn's first sample). A folder
-stands for the ``.npz`` files in it; files without scans are skipped with a note.
+turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention).
+A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
 """
@@ -101,6 +101,12 @@ def build_parser() -> argparse.ArgumentParser:
         "either way, the same draws every run: drivers that take it from each turn's first "
         "sample (default: 0, none)",
     )
+    parser.add_argument(
+        "--imu-nose-up",
+        action="store_true",
+        help="negate the IMU's pitch (with --inputs imu): an IMU that gives it positive nose "
+        "up, the other convention, wired in as it is",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -123,6 +129,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(f"--range-noise: a standard deviation >= 0 m, got {args.range_noise}")
     if not 0.0 <= args.dropout <= 1.0:
         raise ValueError(f"--dropout: a share in [0, 1], got {args.dropout}")
+    if args.imu_nose_up and "imu" not in args.inputs:
+        raise ValueError("--imu-nose-up: add --inputs imu (it negates the IMU's pitch)")
     if not 0.0 <= args.angle_jitter <= MAX_ANGLE_JITTER_BEAMS:
         raise ValueError(
             f"--angle-jitter: beams in [0, {MAX_ANGLE_JITTER_BEAMS:g}], got {args.angle_jitter}"
@@ -159,6 +167,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 dropout_share=args.dropout,
                 no_echo_reads=NO_ECHO_READS.get(args.no_echo_reads),
                 angle_jitter_beams=args.angle_jitter,
+                imu_nose_up=args.imu_nose_up,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -248,6 +257,7 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "dropout_share": args.dropout,
         "no_echo_reads": args.no_echo_reads,
         "angle_jitter_beams": args.angle_jitter,
+        "imu_nose_up": args.imu_nose_up,
         "target_auc": args.target,
         "summary": summaries,
     }
@@ -284,6 +294,8 @@ def _scanner_changes(args: argparse.Namespace) -> str:
         changes += f" Returns lost as no echo: {args.dropout * 100:g} % (the same draws every run)."
     if args.no_echo_reads is not None:
         changes += f" Every beam without an echo reads {args.no_echo_reads}."
+    if args.imu_nose_up:
+        changes += " The IMU's pitch is negated (positive nose up)."
     if args.angle_jitter > 0.0:
         changes += (
             f" Each scan's angle_min moved within {args.angle_jitter / 2:g} beam either way "

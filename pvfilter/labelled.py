@@ -311,6 +311,7 @@ def evaluate_labelled(
     dropout_share: float = 0.0,
     no_echo_reads: float | str | None = None,
     angle_jitter_beams: float = 0.0,
+    imu_nose_up: bool = False,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -337,6 +338,8 @@ def evaluate_labelled(
             ``+inf``, as the file has it; :func:`with_no_echo_reads`).
         angle_jitter_beams: each scan's ``angle_min`` moved within half this many beams
             either way (0: none; :func:`with_angle_jitter`).
+        imu_nose_up: the IMU's pitch negated, as an IMU that gives it positive nose up
+            (the other convention) would feed it.
 
     Returns:
         The report; None when the file holds no scans.
@@ -375,6 +378,11 @@ def evaluate_labelled(
     usable = set(entry.accepts) | set(entry.needs)  # (a filter gets what it takes)
     per_scan = robot_inputs_of(arrays, len(scans), inputs, source)
     per_scan = [{k: v for k, v in extra.items() if k in usable} for extra in per_scan]
+    if imu_nose_up:
+        per_scan = [
+            {**extra, "pitch_rad": -extra["pitch_rad"]} if "pitch_rad" in extra else extra
+            for extra in per_scan
+        ]
 
     def make(**extra: Any) -> ScanFilter:
         return entry.make(params, robot_geometry=geometry, **{**fields, **extra})

@@ -210,7 +210,7 @@ class ImprovedPitchVariationFilter:
             scores = detection.segment_scores
             guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
             confident = None if guessed else line_pitch(detection.segments, scores, line_params)
-            self._attitude.check(confident, scores.imu_contradicted)
+            self._attitude.check(confident, scores.imu_contradicted, scores.scan_down_side)
         self._learn_roll(detection, outcome)
         # remember: the level view (from level scans only), the scans to match and compare
         self._remember(prepared, found, outcome.coast)

@@ -152,6 +152,8 @@ class SegmentScores:
         scan_scores: per segment, the score from the scan alone (before the IMU's cue).
         imu_contradicted: a line the scan alone scores above ``p_th`` lies beyond the
             IMU's band (vetoed or not: see :class:`~pvfilter.improved.imu.Attitude`).
+        scan_down_side: where the scan alone puts the floor (+1, -1, 0), whatever the IMU
+            says: the IMU's sign is checked against it.
     """
 
     scores: np.ndarray
@@ -163,6 +165,7 @@ class SegmentScores:
     down_tilt_rad: float = math.nan
     scan_scores: np.ndarray | None = None
     imu_contradicted: bool = False
+    scan_down_side: int = 0
 
 
 def geometry_gates(
@@ -273,6 +276,9 @@ def score_segments(
     score *= not_static
     score[beyond] *= params.up_side_weight
     down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
+    scan_down = down
+    if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own)
+        scan_down, _ = _down_side(gates, new_counts, side, tilt, distances, None, params)
     if down != 0 and params.up_side_weight < 1.0:
         # a rotating scan measures its lines at different tilts: the floor side's strong
         # lines show how steep the plane got, and a ceiling can be that much nearer
@@ -312,7 +318,7 @@ def score_segments(
             if down == 0:
                 down, down_tilt = held.side, held.tilt_rad
     return SegmentScores(
-        score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted
+        score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted, scan_down
     )
 
 

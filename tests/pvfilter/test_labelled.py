@@ -443,3 +443,33 @@ def test_the_improved_filter_scores_a_jittered_angle_min_as_the_file(labelled_fi
     assert json.loads((out / "report.json").read_text())["angle_jitter_beams"] == 1.0
     assert "angle_min moved within 0.5 beam" in (out / "report.md").read_text()
     assert main(["eval-labels", str(labelled_file), "--angle-jitter", "-1"]) == 2
+
+
+def test_the_imu_nose_up_option_negates_the_pitch_the_filters_get(tmp_path):
+    arrays, _ = labelled_arrays()
+    arrays["pitch_rad"] = np.linspace(-0.1, 0.1, len(arrays["ranges"]))
+    arrays["roll_rad"] = np.zeros(len(arrays["ranges"]))
+    path = tmp_path / "imu.npz"
+    np.savez(path, **arrays)
+    seen = []
+
+    class PitchSpy(Spy):
+        def process(self, scan, **inputs):
+            seen.append(inputs["pitch_rad"])
+            return super().process(scan)
+
+    entry = register_filter(
+        FilterEntry("pitch_spy", PitchSpy, OracleParams, "", needs=("pitch_rad",))
+    )
+    try:
+        evaluate_labelled(path, entry, inputs=["imu"], imu_nose_up=True)
+    finally:
+        unregister_filter("pitch_spy")
+    np.testing.assert_allclose(seen, -arrays["pitch_rad"])
+    out = tmp_path / "report"
+    assert (
+        main(["eval-labels", str(path), "--inputs", "imu", "--imu-nose-up", "--out", str(out)]) == 0
+    )
+    assert json.loads((out / "report.json").read_text())["imu_nose_up"] is True
+    assert "pitch is negated" in (out / "report.md").read_text()
+    assert main(["eval-labels", str(path), "--imu-nose-up"]) == 2  # without --inputs imu

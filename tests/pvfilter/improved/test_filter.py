@@ -18,6 +18,7 @@ from pvfilter import (
 )
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
+from pvfilter.improved.imu import ImuSignWarning
 from pvfilter.synthetic import (
     BLOCKED_SECTOR,
     cross_line,
@@ -690,6 +691,28 @@ def test_an_angle_min_that_jitters_by_a_fraction_of_a_beam_keeps_the_layout():
     assert counts[False][0] > 500
     assert counts[True][0] >= 0.95 * counts[False][0]
     assert counts[True][1] <= counts[False][1] + 10
+
+
+def test_an_imu_of_the_wrong_sign_is_disowned_and_the_scans_filter_alone():
+    # pitch positive nose up (the other convention): the estimate put the floor on the
+    # ceiling's side, vetoed the floor lines (565 beams found of 3,137), and left no
+    # confident line to check it against
+    events = [pitch_event(start, 8, peak) for start, peak in
+              ((10, 8.0), (30, -8.0), (50, 8.0), (70, -8.0), (90, 8.0))]  # fmt: skip
+    found = {}
+    for sign in (None, -1.0):
+        pvf, found[sign] = ImprovedPitchVariationFilter(), 0
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            for k in range(110):
+                pitch = sum(event(k) for event in events)
+                pose = (-1.0 + 1.5 * math.sin(k / 20), 0.0, 0.0)
+                scan, on_floor = room_scan(pose, pitch, stamp=0.1 * k, seed=k, extra=CLUTTER)
+                imu = {} if sign is None else {"pitch_rad": sign * pitch, "roll_rad": 0.0}
+                found[sign] += np.count_nonzero(pvf.process(scan, **imu).removed & on_floor)
+        warned = [w for w in caught if issubclass(w.category, ImuSignWarning)]
+        assert len(warned) == (0 if sign is None else 1)
+    assert found[-1.0] >= 0.6 * found[None]
 
 
 @pytest.mark.parametrize("turn_rad_s", [0.3, -0.3, 0.8])

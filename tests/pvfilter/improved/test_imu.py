@@ -10,8 +10,10 @@ from pvfilter.improved.imu import (
     IMU_CHECK_FACTOR,
     IMU_CHECK_LINES,
     IMU_CHECK_MIN_LINES,
+    IMU_SIGN_MIN_VOTES,
     IMU_TIMING_S,
     AttitudeTrack,
+    ImuSignWarning,
 )
 
 PARAMS = ImprovedParams()
@@ -88,3 +90,23 @@ def test_a_veto_waits_a_scan_for_a_lagging_estimate_to_catch_up():
     track.check(None, contradicted=True)
     track.reset()
     assert track.update((0.0, 0.0), 0.3).reach_rad == pytest.approx(reach)
+
+
+def test_an_imu_of_the_wrong_sign_is_disowned_until_reset():
+    # the estimate says nose down (floor ahead) where the scans put the floor behind
+    track = AttitudeTrack(PARAMS)
+    with pytest.warns(ImuSignWarning, match="positive nose down"):
+        for k in range(IMU_SIGN_MIN_VOTES):
+            assert track.update((0.15, 0.0), 0.1 * k) is not None
+            track.check(None, scan_down_side=-1)
+    assert track.disowned and track.update((0.15, 0.0), 1.0) is None
+    track.reset()
+    assert track.update((0.15, 0.0), 2.0) is not None
+
+
+def test_a_good_imu_outvotes_the_scans_that_see_a_ceiling_first():
+    track = AttitudeTrack(PARAMS)
+    for k in range(4 * IMU_SIGN_MIN_VOTES):
+        track.update((0.15, 0.0), 0.1 * k)
+        track.check(None, scan_down_side=-1 if k % 3 == 0 else 1)  # a third disagree
+    assert not track.disowned and track.current is not None
