@@ -56,7 +56,9 @@ class BeamLayout:
         fraction of a beam from scan to scan. Taken for a new layout, every scan started
         the filter afresh, and it found nothing. Within the tolerance the filter works in
         this layout's frame, turned by that fraction from the scan's: its scan match takes
-        the turn for the sensor's, as the level view's move does.
+        the turn for the sensor's, as the level view's move does. (An ``angle_min`` that
+        drifts on, rather than jitters, passes the tolerance now and then, and the filter
+        starts afresh there.)
         """
         if len(scan) != self.count:
             return False
@@ -64,6 +66,8 @@ class BeamLayout:
             return True
         last = self.count - 1
         shift = scan.angle_min - self.angle_min
+        if self.ring:  # a full turn may start near -pi one scan and near +pi the next
+            shift = math.remainder(shift, 2.0 * math.pi)
         last_off = abs(shift + last * (scan.angle_increment - self.increment))
         return max(abs(shift), last_off) <= FIT_TOLERANCE_BEAMS * self.increment
 

@@ -34,9 +34,11 @@ up, say): it puts the floor on the ceiling's side, vetoes the floor lines, and n
 confident line is left to check it against (the fourth generator's first set with its
 pitch negated: mean AUC 0.617, against 0.852 from the scans alone). So each scan where
 the estimate shows a tilt, changing slowly, and the scan alone shows where the floor is
-counts whether the two sides agree; once ``IMU_SIGN_MIN_VOTES`` scans disagree, and at least
-``IMU_SIGN_RATIO`` times as many as agree, the IMU is disowned until the filter is reset:
-it filters from the scans alone, with a :class:`ImuSignWarning`.
+counts whether the two sides agree. A line on the estimate's up side disagrees only where
+it lies nearer than a ceiling can at the estimate's tilt: there it can only be the floor.
+Once ``IMU_SIGN_MIN_VOTES`` scans disagree, and at least ``IMU_SIGN_RATIO`` times as many
+as agree, the IMU is disowned until the filter is reset: it filters from the scans alone,
+with a :class:`ImuSignWarning`.
 """
 
 from __future__ import annotations
@@ -60,8 +62,8 @@ IMU_CHECK_QUANTILE = 0.8  # the differences seen are measured by this quantile o
 IMU_CHECK_FACTOR = 1.5  # the band is this many times that quantile: about 1.9 standard
 # deviations of normal differences (a veto must hold for nearly all of them)
 IMU_SIGN_MIN_VOTES = 6  # scans whose floor side contradicts the estimate's before it is
-# disowned (a good IMU's, while it changes slowly, contradict it in 0-3 of 4-74 scans on
-# the fourth generator)
+# disowned (with a good IMU 0-5 scans of a fourth-generator sequence do, against 0-69
+# that agree)
 IMU_SIGN_RATIO = 3.0  # and at least this many times as many as agree with it
 
 
@@ -120,6 +122,7 @@ class AttitudeTrack:
         self.previous: tuple[float, float] | None = None  # (stamp s, pitch rad) as given
         self.current: Attitude | None = None  # the latest scan's
         self.rate_rad_s = 0.0  # the latest estimate's rate of change
+        self.rate_known = False  # it came from two consecutive estimates
         self.differences: deque[float] = deque(maxlen=IMU_CHECK_LINES)  # line - estimate, rad
         self.learned_rad = 0.0  # the band the differences call for
         self.contradicted = False  # the latest scan showed a strong line beyond the band
@@ -133,7 +136,8 @@ class AttitudeTrack:
             return None
         pitch, roll = attitude
         rate = self.rate_rad_s = 0.0
-        if self.previous is not None and stamp > self.previous[0]:
+        self.rate_known = self.previous is not None and stamp > self.previous[0]
+        if self.rate_known:
             rate = self.rate_rad_s = (pitch - self.previous[1]) / (stamp - self.previous[0])
         self.previous = (stamp, pitch)
         default = math.radians(self.params.imu_angle_error_deg)
@@ -153,8 +157,9 @@ class AttitudeTrack:
         the floor (+1 ahead, -1 behind, 0 unknown), for the estimate's sign."""
         self.contradicted = contradicted
         current = self.current
-        steady = abs(self.rate_rad_s) <= IMU_CHECK_MAX_RATE  # (a lagging estimate's sign
-        # may be behind the body's while it swings)
+        # (a lagging estimate's sign may be behind the body's while it swings; after a
+        # scan without the IMU its rate is not known)
+        steady = self.rate_known and abs(self.rate_rad_s) <= IMU_CHECK_MAX_RATE
         if current is not None and current.tilted and scan_down_side != 0 and steady:
             self._vote(scan_down_side == current.down_side)
         if line_pitch_rad is None or current is None or self.previous is None:

@@ -78,6 +78,7 @@ from pvfilter.improved.geometry import (
     TURN_TOLERANCE,
     axle_distances,
     ceiling_min_distance,
+    floor_distance,
     floor_shift,
     folded,
     implied_tilt,
@@ -103,6 +104,10 @@ IMU_PLACE_FACTOR = 2.0  # 1: the IMU lends support only where its tilt is at lea
 # many times its error: the floor then lies within a factor of about three in distance
 # (h / sin(p - e) against h / sin(p + e)); at 4 deg +- 3.5 deg it could lie anywhere from
 # 2 m to 30 m ahead, where every wall across the travel would "agree"
+IMU_SIGN_CEILING_SHARE = 0.5  # 1: a line on the IMU's up side nearer than this share of
+# the nearest a ceiling can be at its tilt can only be the floor: the estimate's sign is
+# contradicted (a floor line lies h / sin p out, a ceiling (H - h) / sin p: with H over
+# 3 h, under half as far)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
@@ -278,7 +283,17 @@ def score_segments(
     down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
     if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own)
-        scan_down, _ = _down_side(gates, new_counts, side, tilt, distances, None, params)
+        scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
+        # a line on the estimate's up side contradicts its sign only where no ceiling can
+        # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points
+        # than the floor line behind): nearer than IMU_SIGN_CEILING_SHARE of the nearest
+        # a ceiling can be, it can only be the floor
+        nearest_ceiling = ceiling_min_distance(attitude.tilt_rad, params)
+        if (
+            scan_down == -attitude.down_side
+            and floor_distance(scan_tilt, params) >= IMU_SIGN_CEILING_SHARE * nearest_ceiling
+        ):
+            scan_down = 0
     if down != 0 and params.up_side_weight < 1.0:
         # a rotating scan measures its lines at different tilts: the floor side's strong
         # lines show how steep the plane got, and a ceiling can be that much nearer

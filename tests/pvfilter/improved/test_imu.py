@@ -95,10 +95,13 @@ def test_a_veto_waits_a_scan_for_a_lagging_estimate_to_catch_up():
 def test_an_imu_of_the_wrong_sign_is_disowned_until_reset():
     # the estimate says nose down (floor ahead) where the scans put the floor behind
     track = AttitudeTrack(PARAMS)
+    track.update((0.15, 0.0), 0.0)
+    track.check(None, scan_down_side=-1)  # no rate yet: no vote
     with pytest.warns(ImuSignWarning, match="positive nose down"):
-        for k in range(IMU_SIGN_MIN_VOTES):
+        for k in range(1, IMU_SIGN_MIN_VOTES + 1):
             assert track.update((0.15, 0.0), 0.1 * k) is not None
             track.check(None, scan_down_side=-1)
+            assert track.disowned == (k == IMU_SIGN_MIN_VOTES)
     assert track.disowned and track.update((0.15, 0.0), 1.0) is None
     track.reset()
     assert track.update((0.15, 0.0), 2.0) is not None
@@ -110,3 +113,15 @@ def test_a_good_imu_outvotes_the_scans_that_see_a_ceiling_first():
         track.update((0.15, 0.0), 0.1 * k)
         track.check(None, scan_down_side=-1 if k % 3 == 0 else 1)  # a third disagree
     assert not track.disowned and track.current is not None
+
+
+def test_an_estimate_changing_fast_or_after_a_gap_does_not_vote():
+    track = AttitudeTrack(PARAMS)
+    for k in range(3 * IMU_SIGN_MIN_VOTES):
+        pitch = 0.15 + (0.1 if k % 2 else 0.0)  # 1 rad/s back and forth
+        track.update((pitch, 0.0), 0.1 * k)
+        track.check(None, scan_down_side=-1)
+    for k in range(3 * IMU_SIGN_MIN_VOTES):  # the IMU on every second scan only
+        track.update((0.15, 0.0) if k % 2 else None, 10.0 + 0.1 * k)
+        track.check(None, scan_down_side=-1)
+    assert track.sides_disagree == 0 and not track.disowned

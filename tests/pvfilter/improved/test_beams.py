@@ -1,0 +1,44 @@
+"""BeamLayout: which scans share a layout (a jittering angle_min does; another scanner not)."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from pvfilter import Scan
+from pvfilter.improved.beams import FIT_TOLERANCE_BEAMS, BeamLayout
+
+BEAMS = 720
+INCREMENT = 2.0 * math.pi / BEAMS
+
+
+def ring_scan(angle_min=-math.pi, increment=INCREMENT, beams=BEAMS):
+    return Scan(ranges=np.ones(beams), angle_min=angle_min, angle_increment=increment,
+                range_min=0.05, range_max=12.0)  # fmt: skip
+
+
+@pytest.mark.parametrize(("shift_beams", "fits"), [(0.0, True), (0.5, True), (-1.9, True),
+                                                   (FIT_TOLERANCE_BEAMS + 0.1, False)])  # fmt: skip
+def test_a_scan_whose_angle_min_moved_within_the_tolerance_keeps_the_layout(shift_beams, fits):
+    layout = BeamLayout.of(ring_scan())
+    assert layout.fits(ring_scan(-math.pi + shift_beams * INCREMENT)) == fits
+
+
+def test_a_full_turn_that_starts_across_the_seam_keeps_the_layout():
+    # a driver that takes angle_min from each turn's first sample, near -pi and near +pi
+    layout = BeamLayout.of(ring_scan(-math.pi + 0.3 * INCREMENT))
+    assert layout.fits(ring_scan(math.pi - 0.3 * INCREMENT))
+    part = Scan(ranges=np.ones(480), angle_min=-2.0, angle_increment=INCREMENT,
+                range_min=0.05, range_max=12.0)  # fmt: skip
+    moved = dataclasses.replace(part, angle_min=-2.0 + 2.0 * math.pi)
+    assert not BeamLayout.of(part).fits(moved)  # not a full turn: those are other beams
+
+
+def test_an_increment_that_moves_the_last_beam_beyond_the_tolerance_is_another_layout():
+    layout = BeamLayout.of(ring_scan())
+    within = INCREMENT * (1.0 + 1.5 / (BEAMS - 1))  # the last beam 1.5 beams on
+    beyond = INCREMENT * (1.0 + 2.5 / (BEAMS - 1))
+    assert layout.fits(ring_scan(increment=within))
+    assert not layout.fits(ring_scan(increment=beyond))
+    assert not layout.fits(ring_scan(beams=BEAMS - 1))
