@@ -21,8 +21,8 @@ import numpy as np
 
 from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry, robot_inputs
 from pvfilter.exits import run_command
-from pvfilter.io import clockwise_scans, in_scan_order, read_arrays, save_results, scans_from_arrays
-from pvfilter.labelled import read_labels, truth_of
+from pvfilter.io import read_arrays, save_results, scans_from_arrays
+from pvfilter.labelled import scan_labels, truth_of
 from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
 
@@ -91,9 +91,7 @@ def _filter_file(args: argparse.Namespace) -> int:
     # labels the score needs, checked before the work: a bad one ends the command first
     labels = None
     if "labels" in arrays:
-        labels = in_scan_order(
-            read_labels(arrays, str(source)), clockwise_scans(arrays, len(scans))
-        )
+        labels = scan_labels(arrays, str(source), len(scans))
     inputs = [{}] * len(scans) if args.scans_only else robot_inputs(arrays, len(scans), str(source))
     start = time.perf_counter()
     if args.threaded:

@@ -157,6 +157,12 @@ def read_labels(arrays: Mapping[str, np.ndarray], source: str) -> np.ndarray:
     return labels.astype(np.int64)
 
 
+def scan_labels(arrays: Mapping[str, np.ndarray], source: str, count: int) -> np.ndarray:
+    """The file's ``labels`` (:func:`read_labels`) in the beam order of its ``count`` scans
+    as read (a clockwise file's rows reversed: :func:`pvfilter.io.in_scan_order`)."""
+    return in_scan_order(read_labels(arrays, source), clockwise_scans(arrays, count))
+
+
 def geometry_of(arrays: Mapping[str, np.ndarray], source: str) -> dict[str, float]:
     """The robot geometry the file states (``lidar_height_m`` ...), m.
 
@@ -355,7 +361,7 @@ def evaluate_labelled(
     scans = scans_from_arrays(arrays, source=source)
     if not scans:
         return None
-    labels = in_scan_order(read_labels(arrays, source), clockwise_scans(arrays, len(scans)))
+    labels = scan_labels(arrays, source, len(scans))
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if occluded_reads is not None:
