@@ -544,7 +544,7 @@ class ImprovedPitchVariationFilter:
                 params, *echoes,
             )  # fmt: skip
             moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
-            if not explains_view_error(gaps, moved_gaps, margin):
+            if not explains_view_error(gaps, moved_gaps, margin, directions):
                 return None
             if both_ends and not explains_both_ends(gaps, moved_gaps, margin, layout):
                 return None
