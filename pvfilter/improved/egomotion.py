@@ -85,12 +85,16 @@ class Match:
         trusted: the match can be trusted.
         tilt_rad: the tilt the scan was unstretched by before the match, rad, >= 0.
         ranges: the scan's ranges, mid-scan and unstretched, m (None: not matched).
+        weak: the fit's least constrained direction of translation: its support in
+            rows and its direction in this scan's frame, rad
+            (:attr:`pvfilter.improved.motion.Motion.weak_rows`; inf rows: no fit).
     """
 
     step: Motion
     trusted: bool
     tilt_rad: float = 0.0
     ranges: np.ndarray | None = None
+    weak: tuple[float, float] = (math.inf, 0.0)
 
 
 class EgoMotion:
@@ -238,7 +242,7 @@ class EgoMotion:
                 self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
-        return Match(step, True, guess, ranges)
+        return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
 
     def _odometry_agrees(self, turn_error: float) -> None:
         """Average in one trusted match's turn error against the odometry, in spreads."""

@@ -34,6 +34,7 @@ from pvfilter.improved.anchor import (
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
+from pvfilter.improved.doubt import ViewDoubt
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
 from pvfilter.improved.evidence import (
     STATIC_TOLERANCE_M,
@@ -152,6 +153,7 @@ class ImprovedPitchVariationFilter:
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
         self._body = BodyBeams()
+        self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
@@ -198,6 +200,9 @@ class ImprovedPitchVariationFilter:
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
         outcome = self._match(prepared, prior, fresh)
+        if not outcome.fresh:  # the view's doubt along what the match could not see
+            weak = outcome.match.weak if pose is None else (math.inf, 0.0)  # wheels: seen
+            self._doubt.carry(outcome.match.step.theta_rad, weak, prepared.dt)
         found = self._detect(prepared, outcome)
         if outcome.onset and not found.detection.tilted:
             # the match failed on a scan that shows no pitch event: start afresh after all
@@ -468,6 +473,12 @@ class ImprovedPitchVariationFilter:
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
+        doubt = self._doubt.along_beams(layout)  # drive the matches could not see
+        if doubt is not None and np.count_nonzero(new) < MIN_PAIRS:
+            self._doubt.reset()  # the view is where the scan puts it, within the margin
+        elif doubt is not None:  # new only beyond it (a return seen through stays so)
+            doubt += params.free_margin_m
+            new &= gaps > np.add(doubt, params.free_margin_rel * ranges, out=doubt)
         # a drifted view puts returns in front of it and beyond it (re-anchoring must
         # explain MIN_PAIRS of those beyond: with fewer there is nothing to try; with no
         # new return, none seen through is worked out)
@@ -489,8 +500,9 @@ class ImprovedPitchVariationFilter:
                 velocity,
                 unseen_travel,
             )
-            if anchored is not None:
+            if anchored is not None:  # registered on the scan: no doubt left
                 view, gaps = anchored
+                self._doubt.reset()
                 new, through = free_space_evidence(
                     gaps, ranges, params.free_margin_m, params.free_margin_rel
                 )
@@ -580,6 +592,7 @@ class ImprovedPitchVariationFilter:
         self._ego.reset()
         self._recent.clear()
         self._follower.reset()
+        self._doubt.reset()
         self._tilted_s = 0.0
 
     def _level(self, tilted: bool, dt: float) -> bool:
