@@ -15,7 +15,7 @@ VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (ho
 write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
 turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention);
-``--every N`` keeps every Nth scan (a scanner that turns N times slower, a thinned log).
+``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -113,8 +113,10 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=1,
         metavar="N",
-        help="keep every Nth scan, from the first: a scanner that turns N times slower, or "
-        "a log thinned out (default: 1, every scan)",
+        help="keep every Nth scan, from the first, with its labels and robot inputs, "
+        "before any other change: a log thinned out, or a scanner that scans N times less "
+        "often (each scan's own sweep timing kept; the improved filter compares no scans "
+        "farther apart than its max_gap_s) (default: 1, every scan)",
     )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
@@ -296,6 +298,8 @@ def _no_nan(value):
 def _scanner_changes(args: argparse.Namespace) -> str:
     """What the scans were changed by before the filters ran, as sentences ("" for none)."""
     changes = ""
+    if args.every > 1:  # first: the other changes are drawn on the scans kept
+        changes += f" Every {_ordinal(args.every)} scan kept, from the first."
     if args.range_noise > 0.0:
         changes += (
             f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "
@@ -314,8 +318,6 @@ def _scanner_changes(args: argparse.Namespace) -> str:
             f" Each scan's angle_min moved within {args.angle_jitter / 2:g} beam either way "
             "(the same draws every run)."
         )
-    if args.every > 1:
-        changes += f" Every {_ordinal(args.every)} scan kept, from the first."
     return changes
 
 

@@ -5,17 +5,22 @@ Where the walls a scan shares with the last one are all parallel (a corridor, or
 side walls that a pitched plane still meets while floor lines hide the walls ahead),
 the drive along them is left to a few rows of clutter and to the constant-velocity
 prior: the fit's support along that direction (:attr:`pvfilter.improved.motion.Motion.weak_rows`)
-is small. Each such step may be off along it by as much as the prior may be
+is small. Such a step may be off along it by as much as the prior may be
 (:func:`pvfilter.improved.widestep.prior_doubt_m`: the robot braking or speeding up at
-its hardest over the step: 2.5 cm at 10 Hz, 10 cm at 5 Hz). Over a pitch event the
-doubts add up (as variances), and when the robot levels, the wall ahead stands in front
-of the view by about that much: a return is new only that much more in front of the
-view, along each beam.
+its hardest over the step: 2.5 cm at 10 Hz, 10 cm at 5 Hz; over the whole time since
+the last matched scan where the filter coasted). The prior's velocity then comes from
+that step, so the next step errs the same way: the doubts of consecutive weak steps add
+as distances, not as variances. When the robot levels, the wall ahead stands in front of
+the view by about that much: a return is new only that much more in front of the view,
+along its beam, as the surface it lies on moves (``1 / cos`` of the incidence).
 
-The doubt is the view's, in the current sensor frame: it turns with the sensor, grows
-with each weak step of a robot without wheel odometry (the wheels measure the drive),
-and is gone when a level scan renews the view, when the view is re-anchored on the scan,
-or when the filter starts afresh.
+The doubt is the view's, a covariance in the current sensor frame: it turns with the
+sensor; it grows by the weak steps of a robot without wheel odometry while the view is
+not renewed (in a pitch event, and the step out of it: a step between two level scans
+lands on a view the scans teach again); after the event it shrinks as fast as the view
+comes closer behind a line across the travel (``line_shrink_mps`` plus the drive:
+:class:`pvfilter.improved.memory.LevelMemory`); and it is gone when the view agrees with
+a scan, is re-anchored on it, or starts afresh.
 """
 
 from __future__ import annotations
@@ -29,6 +34,11 @@ from pvfilter.improved.motion import MIN_PAIRS
 from pvfilter.improved.widestep import prior_doubt_m
 
 WEAK_ROWS = MIN_PAIRS  # rows: a direction with less support than a fit needs is not measured
+SURFACE_SPAN = 4.0  # a surface seen within 75 deg of its normal spans at most 1 / cos 75
+# (3.9) times the arc between its beams: farther apart, the neighbours lie on two surfaces
+NEGLIGIBLE_M = 1e-6  # m: a doubt smaller than this is none
+GRAZING_COS = math.cos(math.radians(75.0))  # a surface seen more obliquely than this moves
+# along the beam as if seen at this angle (a shift along it moves it by 1 / cos: unbounded)
 
 
 class ViewDoubt:
@@ -39,32 +49,109 @@ class ViewDoubt:
         self.reset()
 
     def reset(self) -> None:
-        """No doubt: the view is where the last level scan saw it."""
-        self.xx = self.xy = self.yy = 0.0
+        """No doubt: the view is where the last scans saw it."""
+        self.doubt = self.grown = (0.0, 0.0, 0.0)  # (xx, xy, yy), m^2
 
-    def carry(self, turn_rad: float, weak: tuple[float, float], dt: float) -> None:
-        """The view moved into the next scan's frame by a step that turned ``turn_rad``
-        and was fitted with support ``weak`` (rows, direction rad) along its least
-        constrained direction, ``dt`` after the last scan."""
-        if self.xx or self.yy:  # turn the doubt with the sensor: R S R^T
-            c, s = math.cos(turn_rad), math.sin(turn_rad)
-            xx, xy, yy = self.xx, self.xy, self.yy
-            self.xx = c * c * xx - 2.0 * c * s * xy + s * s * yy
-            self.xy = c * s * (xx - yy) + (c * c - s * s) * xy
-            self.yy = s * s * xx + 2.0 * c * s * xy + c * c * yy
-        rows, axis_rad = weak
-        if rows >= WEAK_ROWS:
-            return
-        doubt = prior_doubt_m(dt)
-        c, s = math.cos(axis_rad), math.sin(axis_rad)
-        self.xx += doubt * doubt * c * c
-        self.xy += doubt * doubt * c * s
-        self.yy += doubt * doubt * s * s
+    def carry(self, turn_rad: float, weak: tuple[float, float, float], span_s: float) -> None:
+        """The view moved into this scan's frame by a step that turned ``turn_rad``,
+        fitted with ``weak`` support (:attr:`pvfilter.improved.egomotion.Match.weak`;
+        inf rows: seen, or measured by the wheels) over ``span_s`` since the last matched
+        scan. The step's doubt is held apart until :meth:`settle`."""
+        self.doubt = _turned(self.doubt, turn_rad)
+        grown = self.doubt
+        weak_rows, axis_rad, _ = weak
+        if weak_rows < WEAK_ROWS and math.isfinite(axis_rad):  # (NaN compares False)
+            grown = _grown(grown, axis_rad, prior_doubt_m(span_s))
+        self.grown = grown
 
-    def along_beams(self, layout: BeamLayout) -> np.ndarray | None:
-        """Per beam: the view's doubt along it, m (``sqrt(b^T S b)``); None: none."""
-        if not (self.xx or self.yy):
+    def settle(self, in_event: bool, creep_m: float) -> None:
+        """After the scan: its step's doubt stays where the view was not renewed
+        (``in_event``: this scan or the last was tilted or coasted); after a level scan
+        the doubt shrinks by ``creep_m``, how far the view came closer meanwhile, m."""
+        if in_event:
+            self.doubt = self.grown
+        else:
+            self.doubt = _shrunk(self.doubt, creep_m)
+        self.grown = self.doubt
+
+    def along_beams(self, layout: BeamLayout, view_ranges: np.ndarray) -> np.ndarray | None:
+        """Per beam: how far the view's surface there may lie off along the beam, m
+        (``sqrt(n^T S n) / |n . b|`` for the surface's normal ``n`` and the beam ``b``; the
+        beam itself where the view shows no surface through the beam's neighbours); None:
+        no doubt.
+
+        Args:
+            layout: the beams.
+            view_ranges: the level view in this scan's frame, m (NaN unknown, inf free).
+        """
+        xx, xy, yy = self.grown
+        if not (xx or yy):
             return None
         cos, sin = layout.cos, layout.sin
-        variance = self.xx * cos * cos + 2.0 * self.xy * cos * sin + self.yy * sin * sin
-        return np.sqrt(np.maximum(variance, 0.0))
+        directions = surface_directions(view_ranges, layout)
+        normal_x, normal_y = -np.sin(directions), np.cos(directions)
+        unknown = directions != directions  # NaN
+        normal_x[unknown], normal_y[unknown] = cos[unknown], sin[unknown]
+        variance = xx * normal_x * normal_x + 2.0 * xy * normal_x * normal_y
+        variance += yy * normal_y * normal_y
+        facing = np.abs(normal_x * cos + normal_y * sin)
+        return np.sqrt(np.maximum(variance, 0.0)) / np.maximum(facing, GRAZING_COS)
+
+
+def surface_directions(view_ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
+    """Per beam: the direction of the view's surface there, rad, through the points of the
+    beams on either side (NaN where either is unknown or free, or the two lie farther
+    apart than ``SURFACE_SPAN`` times the arc of two beams at their range: a jump)."""
+    points = layout.points(np.where(np.isfinite(view_ranges), view_ranges, np.nan))
+    directions = np.full(layout.count, np.nan)
+    if layout.count < 3:
+        return directions
+    across = points[2:] - points[:-2]
+    span = np.hypot(across[:, 0], across[:, 1])
+    reach = np.fmax(view_ranges[2:], view_ranges[:-2]) * (2.0 * layout.increment * SURFACE_SPAN)
+    directions[1:-1] = np.where(span <= reach, np.arctan2(across[:, 1], across[:, 0]), np.nan)
+    return directions
+
+
+def _turned(doubt: tuple[float, float, float], turn_rad: float) -> tuple[float, float, float]:
+    """``R S R^T``: a direction ``d`` of the last frame is ``R d`` in this one."""
+    xx, xy, yy = doubt
+    if not (xx or yy) or turn_rad == 0.0:
+        return doubt
+    c, s = math.cos(turn_rad), math.sin(turn_rad)
+    return (
+        c * c * xx - 2.0 * c * s * xy + s * s * yy,
+        c * s * (xx - yy) + (c * c - s * s) * xy,
+        s * s * xx + 2.0 * c * s * xy + c * c * yy,
+    )
+
+
+def _grown(
+    doubt: tuple[float, float, float], axis_rad: float, step_m: float
+) -> tuple[float, float, float]:
+    """``doubt`` with ``step_m`` added along ``axis_rad`` as a distance: the standard
+    deviation along the axis grows from ``s`` to ``s + step_m`` (errors of one sign)."""
+    xx, xy, yy = doubt
+    c, s = math.cos(axis_rad), math.sin(axis_rad)
+    along = math.sqrt(max(xx * c * c + 2.0 * xy * c * s + yy * s * s, 0.0))
+    added = (2.0 * along + step_m) * step_m
+    return xx + added * c * c, xy + added * c * s, yy + added * s * s
+
+
+def _shrunk(doubt: tuple[float, float, float], by_m: float) -> tuple[float, float, float]:
+    """``doubt`` with the standard deviation along each of its axes less ``by_m`` (none
+    left below a micrometre)."""
+    xx, xy, yy = doubt
+    half_sum, spread = 0.5 * (xx + yy), math.hypot(0.5 * (xx - yy), xy)
+    major_m = math.sqrt(max(half_sum + spread, 0.0)) - by_m
+    minor_m = math.sqrt(max(half_sum - spread, 0.0)) - by_m
+    if major_m < NEGLIGIBLE_M:
+        return (0.0, 0.0, 0.0)
+    major, minor = major_m * major_m, max(minor_m, 0.0) ** 2
+    axis = 0.5 * math.atan2(2.0 * xy, xx - yy)  # the major axis
+    c, s = math.cos(axis), math.sin(axis)
+    return (
+        major * c * c + minor * s * s,
+        (major - minor) * c * s,
+        major * s * s + minor * c * c,
+    )

@@ -35,7 +35,7 @@ from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.doubt import ViewDoubt
-from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
+from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
     STATIC_TOLERANCE_M,
     RecentScans,
@@ -199,10 +199,12 @@ class ImprovedPitchVariationFilter:
         fresh, dt = self._start(scan)
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
+        odometry_prior = prepared.pose is not None and self._ego.pose is not None
         outcome = self._match(prepared, prior, fresh)
         if not outcome.fresh:  # the view's doubt along what the match could not see
-            weak = outcome.match.weak if pose is None else (math.inf, 0.0)  # wheels: seen
-            self._doubt.carry(outcome.match.step.theta_rad, weak, prepared.dt)
+            weak = SEEN if odometry_prior else outcome.match.weak  # the wheels measure it
+            span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
+            self._doubt.carry(outcome.match.step.theta_rad, weak, span_s)
         found = self._detect(prepared, outcome)
         if outcome.onset and not found.detection.tilted:
             # the match failed on a scan that shows no pitch event: start afresh after all
@@ -393,7 +395,12 @@ class ImprovedPitchVariationFilter:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
         and keep the scan for the world-static test."""
         scan, detection = prepared.scan, found.detection
+        was_tilted = self._tilted_s > 0.0
         level = self._level(detection.tilted or coast, prepared.dt)
+        # the doubt of a step into or out of a pitch event stays; after it the view comes
+        # closer behind lines across the travel at line_shrink_mps plus the drive
+        creep_m = (self.params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
+        self._doubt.settle(was_tilted or not level, creep_m)
         hold = self._hold(detection)
         self._memory.update(
             prepared.ranges,
@@ -473,7 +480,7 @@ class ImprovedPitchVariationFilter:
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
-        doubt = self._doubt.along_beams(layout)  # drive the matches could not see
+        doubt = self._doubt.along_beams(layout, view.ranges)  # drive the matches missed
         if doubt is not None and np.count_nonzero(new) < MIN_PAIRS:
             self._doubt.reset()  # the view is where the scan puts it, within the margin
         elif doubt is not None:  # new only beyond it (a return seen through stays so)

@@ -53,6 +53,7 @@ class Motion:
             or what a pitched plane still meets) leave the drive along them to a few
             rows of clutter and the prior.
         weak_axis_rad: that direction in the current sensor frame, rad (mod pi).
+        strong_rows: the support across it, in rows (inf: no fit).
     """
 
     theta_rad: float = 0.0
@@ -62,6 +63,7 @@ class Motion:
     residual_m: float = math.nan
     weak_rows: float = math.inf
     weak_axis_rad: float = 0.0
+    strong_rows: float = math.inf
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
@@ -231,14 +233,16 @@ def estimate_motion(
     median = _median(_residuals(design, solution, target), scratch=True)
     fine = coarse.then(motion_of(*solution))
     motion = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
-    motion.__dict__["weak_rows"], motion.__dict__["weak_axis_rad"] = weak_direction(design)
+    fields = motion.__dict__
+    fields["weak_rows"], fields["weak_axis_rad"], fields["strong_rows"] = weak_direction(design)
     return motion
 
 
-def weak_direction(design: np.ndarray) -> tuple[float, float]:
+def weak_direction(design: np.ndarray) -> tuple[float, float, float]:
     """The least constrained direction of translation of a point-to-line fit: the smaller
     eigenvalue of its translation's information with the turn taken out (the Schur
-    complement of the normal equations), in rows, and its direction, rad (mod pi).
+    complement of the normal equations), in rows, its direction, rad (mod pi), and the
+    larger eigenvalue (the support across it), in rows.
 
     Args:
         design: the fit's rows ``(n x p - n y q..., n_x, n_y)``, ``(k, 3)``.
@@ -247,9 +251,10 @@ def weak_direction(design: np.ndarray) -> tuple[float, float]:
     if a > 0.0:  # the turn's share taken out: a turn can explain part of a shift
         e, f, i = e - b * b / a, f - b * c / a, i - c * c / a
     half_sum, half_diff = 0.5 * (e + i), 0.5 * (e - i)
-    weak = half_sum - math.hypot(half_diff, f)
+    spread = math.hypot(half_diff, f)
     # the strong axis lies at atan2(2 f, e - i) / 2; the weak one across it
-    return max(weak, 0.0), 0.5 * math.atan2(2.0 * f, e - i) + 0.5 * math.pi
+    axis = 0.5 * math.atan2(2.0 * f, e - i) + 0.5 * math.pi
+    return max(half_sum - spread, 0.0), axis, half_sum + spread
 
 
 def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:

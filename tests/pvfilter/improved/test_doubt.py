@@ -7,6 +7,7 @@ import pytest
 
 from pvfilter.improved import BeamLayout
 from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
+from pvfilter.improved.egomotion import SEEN
 from pvfilter.improved.widestep import prior_doubt_m
 
 from .conftest import room_scan
@@ -15,26 +16,73 @@ SCAN = room_scan()[0]
 LAYOUT = BeamLayout.of(SCAN)
 AHEAD = int(np.argmin(np.abs(SCAN.angles())))
 LEFT = int(np.argmin(np.abs(SCAN.angles() - math.pi / 2)))
+NO_VIEW = np.full(len(SCAN), np.nan)  # no surface known: taken across each beam
+BLIND_ALONG_X = (WEAK_ROWS - 1.0, 0.0, 100.0)  # a fit on walls along x only
 
 
-def test_weak_steps_add_their_prior_doubt_as_variances_along_the_weak_axis():
+def doubt_after(steps, dt=0.2, weak=BLIND_ALONG_X):
     doubt = ViewDoubt()
-    assert doubt.along_beams(LAYOUT) is None
-    for _ in range(4):  # four 5 Hz steps blind along x (the sensor's drive)
-        doubt.carry(0.0, (WEAK_ROWS - 1.0, 0.0), 0.2)
-    along = doubt.along_beams(LAYOUT)
-    assert along[AHEAD] == pytest.approx(2.0 * prior_doubt_m(0.2))  # sqrt(4) x 10 cm
+    for _ in range(steps):
+        doubt.carry(0.0, weak, dt)
+        doubt.settle(True, 0.0)
+    return doubt
+
+
+def test_weak_steps_of_an_event_add_their_prior_doubt_along_the_weak_axis_as_distances():
+    # four 5 Hz steps of a pitch event blind along x: the constant-velocity prior errs the
+    # same way each step (its velocity is the last weak step's), 10 cm a step
+    doubt = doubt_after(4)
+    along = doubt.along_beams(LAYOUT, NO_VIEW)
+    assert along[AHEAD] == pytest.approx(4.0 * prior_doubt_m(0.2))
     assert along[LEFT] == pytest.approx(0.0, abs=1e-3)  # across the walls seen: none
-    doubt.carry(0.0, (WEAK_ROWS, 0.0), 0.2)  # a step that saw the drive adds nothing
-    assert doubt.along_beams(LAYOUT)[AHEAD] == pytest.approx(along[AHEAD])
+    doubt.carry(0.0, SEEN, 0.2)  # a step that saw the drive (or the wheels) adds nothing
+    assert doubt.along_beams(LAYOUT, NO_VIEW)[AHEAD] == pytest.approx(along[AHEAD])
+    assert ViewDoubt().along_beams(LAYOUT, NO_VIEW) is None
+    # a NaN direction adds nothing
+    assert doubt_after(3, weak=(0.0, math.nan, 0.0)).along_beams(LAYOUT, NO_VIEW) is None
+
+
+def test_a_step_between_level_scans_adds_no_doubt_and_the_doubt_shrinks_as_the_view_catches_up():
+    doubt = doubt_after(2)  # 0.2 m along x
+    doubt.carry(0.0, BLIND_ALONG_X, 0.2)
+    assert doubt.along_beams(LAYOUT, NO_VIEW)[AHEAD] == pytest.approx(0.3)  # this scan
+    doubt.settle(False, 0.05)  # a level scan after a level one: the view was renewed
+    assert doubt.along_beams(LAYOUT, NO_VIEW)[AHEAD] == pytest.approx(0.15)
+    for _ in range(3):
+        doubt.settle(False, 0.05)
+    assert doubt.along_beams(LAYOUT, NO_VIEW) is None
+    doubt = doubt_after(2)
     doubt.reset()
-    assert doubt.along_beams(LAYOUT) is None
+    assert doubt.along_beams(LAYOUT, NO_VIEW) is None
 
 
 def test_the_doubt_turns_with_the_sensor():
-    doubt = ViewDoubt()
-    doubt.carry(0.0, (0.0, 0.0), 0.1)
-    doubt.carry(math.pi / 2, (math.inf, 0.0), 0.1)  # a quarter turn: x is now y
-    along = doubt.along_beams(LAYOUT)
+    doubt = doubt_after(1, dt=0.1)
+    doubt.carry(math.pi / 2, SEEN, 0.1)  # a quarter turn: x is now y
+    along = doubt.along_beams(LAYOUT, NO_VIEW)
     assert along[LEFT] == pytest.approx(prior_doubt_m(0.1))
     assert along[AHEAD] == pytest.approx(0.0, abs=1e-3)
+
+
+def line_view(normal_deg, distance_m=3.0):
+    """The ranges of a view that holds one wall, its normal ``normal_deg`` off x."""
+    off = np.cos(SCAN.angles() - math.radians(normal_deg))
+    return np.where(off > 0.1, distance_m / np.where(off > 0.1, off, 1.0), np.nan)
+
+
+def test_an_oblique_surface_moves_along_its_beam_by_the_shift_over_the_incidence():
+    # the view off along x: a wall across x moves by the shift along its normal, and
+    # along a beam 45 deg off it by the shift / cos 45 (the beam's own direction would
+    # give shift * cos 45); a wall along x does not move; one seen at a grazing angle (80
+    # deg), whose neighbouring points lie as far apart as across a jump, is taken across
+    # the beam
+    doubt = doubt_after(1)
+    shift_m = prior_doubt_m(0.2)
+    beam = int(np.argmin(np.abs(SCAN.angles() - math.pi / 4)))
+    along = doubt.along_beams(LAYOUT, line_view(0.0))
+    assert along[beam] == pytest.approx(shift_m / math.cos(math.pi / 4), rel=1e-3)
+    assert along[AHEAD] == pytest.approx(shift_m, rel=1e-3)
+    no_view = doubt.along_beams(LAYOUT, NO_VIEW)
+    assert no_view[beam] == pytest.approx(shift_m * math.cos(math.pi / 4), rel=1e-3)
+    assert doubt.along_beams(LAYOUT, line_view(90.0))[LEFT] == pytest.approx(0.0, abs=1e-3)
+    assert doubt.along_beams(LAYOUT, line_view(80.0))[AHEAD] == pytest.approx(shift_m)
