@@ -8,19 +8,25 @@ prior: the fit's support along that direction (:attr:`pvfilter.improved.motion.M
 is small. Such a step may be off along it by as much as the prior may be
 (:func:`pvfilter.improved.widestep.prior_doubt_m`: the robot braking or speeding up at
 its hardest over the step: 2.5 cm at 10 Hz, 10 cm at 5 Hz; over the whole time since
-the last matched scan where the filter coasted). The prior's velocity then comes from
-that step, so the next step errs the same way: the doubts of consecutive weak steps add
-as distances, not as variances. When the robot levels, the wall ahead stands in front of
-the view by about that much: a return is new only that much more in front of the view,
-along its beam, as the surface it lies on moves (``1 / cos`` of the incidence).
+the last matched scan where the filter coasted, and never more than the robot can drive
+in it). The prior's velocity then comes from that step, so the next step errs the same
+way: the doubts of consecutive weak steps add as distances, not as variances. (A
+velocity error that grows with each weak step would add more: a robot that speeds up
+hard through a long event outruns this doubt.) When the robot levels, the wall ahead
+stands in front of the view by about that much: a return is new only that much more in
+front of the view, along its beam, as the surface it lies on moves (``1 / cos`` of the
+incidence).
 
 The doubt is the view's, a covariance in the current sensor frame: it turns with the
 sensor; it grows by the weak steps of a robot without wheel odometry while the view is
 not renewed (in a pitch event, and the step out of it: a step between two level scans
 lands on a view the scans teach again); after the event it shrinks as fast as the view
 comes closer behind a line across the travel (``line_shrink_mps`` plus the drive:
-:class:`pvfilter.improved.memory.LevelMemory`); and it is gone when the view agrees with
-a scan, is re-anchored on it, or starts afresh.
+:class:`pvfilter.improved.memory.LevelMemory`); and it is gone when a scan puts
+``MIN_PAIRS`` returns on the view on surfaces that face the doubt's main direction (they
+show where the view lies along it: a scan that shows nothing there, a floor that returns
+no echo say, confirms nothing), when the view is re-anchored on a scan, or when the
+filter starts afresh.
 """
 
 from __future__ import annotations
@@ -30,12 +36,16 @@ import math
 import numpy as np
 
 from pvfilter.improved.beams import BeamLayout
+from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.motion import MIN_PAIRS
 from pvfilter.improved.widestep import prior_doubt_m
 
 WEAK_ROWS = MIN_PAIRS  # rows: a direction with less support than a fit needs is not measured
+SURFACE_BEAMS = 2  # beams each side: a surface's direction through the points this far
+# apart (two beams either side: one each side takes a scanner's range noise for a turn)
 SURFACE_SPAN = 4.0  # a surface seen within 75 deg of its normal spans at most 1 / cos 75
-# (3.9) times the arc between its beams: farther apart, the neighbours lie on two surfaces
+# (3.9) times the arc between its beams: farther apart, the two lie on two surfaces
+FACING_COS = 0.5  # a surface whose normal lies within 60 deg of a direction faces it
 NEGLIGIBLE_M = 1e-6  # m: a doubt smaller than this is none
 GRAZING_COS = math.cos(math.radians(75.0))  # a surface seen more obliquely than this moves
 # along the beam as if seen at this angle (a shift along it moves it by 1 / cos: unbounded)
@@ -59,9 +69,10 @@ class ViewDoubt:
         scan. The step's doubt is held apart until :meth:`settle`."""
         self.doubt = _turned(self.doubt, turn_rad)
         grown = self.doubt
-        weak_rows, axis_rad, _ = weak
+        weak_rows, axis_rad = weak
         if weak_rows < WEAK_ROWS and math.isfinite(axis_rad):  # (NaN compares False)
-            grown = _grown(grown, axis_rad, prior_doubt_m(span_s))
+            step_m = min(prior_doubt_m(span_s), MAX_SPEED_MPS * span_s)
+            grown = _grown(grown, axis_rad, step_m)
         self.grown = grown
 
     def settle(self, in_event: bool, creep_m: float) -> None:
@@ -73,6 +84,16 @@ class ViewDoubt:
         else:
             self.doubt = _shrunk(self.doubt, creep_m)
         self.grown = self.doubt
+
+    def confirmed(self, on_view: np.ndarray, directions: np.ndarray) -> bool:
+        """``MIN_PAIRS`` returns on the view (``on_view``, per beam) lie on surfaces
+        (local line ``directions``, rad, NaN: none) that face the doubt's main direction:
+        they show where the view lies along it."""
+        xx, xy, yy = self.grown
+        axis = 0.5 * math.atan2(2.0 * xy, xx - yy)  # the covariance's major axis
+        normals = directions.take(np.flatnonzero(on_view)) + 0.5 * math.pi
+        facing = np.abs(np.cos(normals - axis)) >= FACING_COS  # NaN compares False
+        return np.count_nonzero(facing) >= MIN_PAIRS
 
     def along_beams(self, layout: BeamLayout, view_ranges: np.ndarray) -> np.ndarray | None:
         """Per beam: how far the view's surface there may lie off along the beam, m
@@ -99,17 +120,31 @@ class ViewDoubt:
 
 
 def surface_directions(view_ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
-    """Per beam: the direction of the view's surface there, rad, through the points of the
-    beams on either side (NaN where either is unknown or free, or the two lie farther
-    apart than ``SURFACE_SPAN`` times the arc of two beams at their range: a jump)."""
-    points = layout.points(np.where(np.isfinite(view_ranges), view_ranges, np.nan))
-    directions = np.full(layout.count, np.nan)
-    if layout.count < 3:
+    """Per beam: the direction of the view's surface there, rad, through the points
+    ``SURFACE_BEAMS`` beams either side (around the seam of a full turn; NaN where either
+    is unknown or free, or the two lie farther apart than ``SURFACE_SPAN`` times the arc
+    between them at their range: a jump)."""
+    k, n = SURFACE_BEAMS, layout.count
+    directions = np.full(n, np.nan)
+    if n <= 2 * k:
         return directions
-    across = points[2:] - points[:-2]
+    ranges = np.where(np.isfinite(view_ranges), view_ranges, np.nan)
+    points = layout.points(ranges)
+    if layout.ring:  # the beams past the seam are the other end's
+        after, before = np.roll(points, -k, axis=0), np.roll(points, k, axis=0)
+        far = np.fmax(np.roll(ranges, -k), np.roll(ranges, k))
+        rows = slice(0, n)
+    else:
+        after, before, far = (
+            points[2 * k :],
+            points[: n - 2 * k],
+            np.fmax(ranges[2 * k :], ranges[: n - 2 * k]),
+        )
+        rows = slice(k, n - k)
+    across = after - before
     span = np.hypot(across[:, 0], across[:, 1])
-    reach = np.fmax(view_ranges[2:], view_ranges[:-2]) * (2.0 * layout.increment * SURFACE_SPAN)
-    directions[1:-1] = np.where(span <= reach, np.arctan2(across[:, 1], across[:, 0]), np.nan)
+    reach = far * (2 * k * layout.increment * SURFACE_SPAN)
+    directions[rows] = np.where(span <= reach, np.arctan2(across[:, 1], across[:, 0]), np.nan)
     return directions
 
 

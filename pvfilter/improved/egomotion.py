@@ -72,7 +72,7 @@ ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
 MIN_REFERENCE_POINTS = MIN_PAIRS  # a scan with fewer points left to match against
 # (its new returns and candidate lines left out) does not replace the reference
-SEEN = (math.inf, 0.0, math.inf)  # a step's drive seen in every direction (Match.weak)
+SEEN = (math.inf, 0.0)  # a step's drive seen in every direction (Match.weak)
 ODOM_AGREEMENT_SCANS = 10  # scans: the memory of the odometry's agreement with the matches
 # (an exponential average over about this many trusted matches)
 
@@ -87,7 +87,7 @@ class Match:
         tilt_rad: the tilt the scan was unstretched by before the match, rad, >= 0.
         ranges: the scan's ranges, mid-scan and unstretched, m (None: not matched).
         weak: the fit's least constrained direction of translation: its support in
-            rows, its direction in this scan's frame, rad, and the support across it
+            rows and its direction in this scan's frame, rad
             (:attr:`pvfilter.improved.motion.Motion.weak_rows`; ``SEEN``: no fit).
     """
 
@@ -95,7 +95,7 @@ class Match:
     trusted: bool
     tilt_rad: float = 0.0
     ranges: np.ndarray | None = None
-    weak: tuple[float, float, float] = SEEN
+    weak: tuple[float, float] = SEEN
 
 
 class EgoMotion:
@@ -243,8 +243,7 @@ class EgoMotion:
                 self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
-        weak = (found.weak_rows, found.weak_axis_rad, found.strong_rows)
-        return Match(step, True, guess, ranges, weak)
+        return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
 
     def _odometry_agrees(self, turn_error: float) -> None:
         """Average in one trusted match's turn error against the odometry, in spreads."""

@@ -395,12 +395,13 @@ class ImprovedPitchVariationFilter:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
         and keep the scan for the world-static test."""
         scan, detection = prepared.scan, found.detection
-        was_tilted = self._tilted_s > 0.0
+        params = self.params
+        was_in_event = 0.0 < self._tilted_s <= params.max_event_s
         level = self._level(detection.tilted or coast, prepared.dt)
         # the doubt of a step into or out of a pitch event stays; after it the view comes
         # closer behind lines across the travel at line_shrink_mps plus the drive
-        creep_m = (self.params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
-        self._doubt.settle(was_tilted or not level, creep_m)
+        creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
+        self._doubt.settle(was_in_event or not level, creep_m)
         hold = self._hold(detection)
         self._memory.update(
             prepared.ranges,
@@ -481,11 +482,14 @@ class ImprovedPitchVariationFilter:
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
         doubt = self._doubt.along_beams(layout, view.ranges)  # drive the matches missed
-        if doubt is not None and np.count_nonzero(new) < MIN_PAIRS:
-            self._doubt.reset()  # the view is where the scan puts it, within the margin
-        elif doubt is not None:  # new only beyond it (a return seen through stays so)
-            doubt += params.free_margin_m
-            new &= gaps > np.add(doubt, params.free_margin_rel * ranges, out=doubt)
+        if doubt is not None:
+            margin = params.free_margin_rel * ranges
+            margin += params.free_margin_m
+            agrees = np.count_nonzero(new) < MIN_PAIRS  # the scan puts the view where it is
+            if agrees and self._doubt.confirmed(np.abs(gaps) <= margin, directions):
+                self._doubt.reset()  # ... on surfaces across the doubt (NaN compares False)
+            else:  # new only beyond it (a return seen through stays so)
+                new &= gaps > np.add(doubt, margin, out=doubt)
         # a drifted view puts returns in front of it and beyond it (re-anchoring must
         # explain MIN_PAIRS of those beyond: with fewer there is nothing to try; with no
         # new return, none seen through is worked out)

@@ -53,7 +53,6 @@ class Motion:
             or what a pitched plane still meets) leave the drive along them to a few
             rows of clutter and the prior.
         weak_axis_rad: that direction in the current sensor frame, rad (mod pi).
-        strong_rows: the support across it, in rows (inf: no fit).
     """
 
     theta_rad: float = 0.0
@@ -63,7 +62,6 @@ class Motion:
     residual_m: float = math.nan
     weak_rows: float = math.inf
     weak_axis_rad: float = 0.0
-    strong_rows: float = math.inf
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
@@ -234,7 +232,7 @@ def estimate_motion(
     fine = coarse.then(motion_of(*solution))
     motion = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
     fields = motion.__dict__
-    fields["weak_rows"], fields["weak_axis_rad"], fields["strong_rows"] = weak_direction(design)
+    fields["weak_rows"], fields["weak_axis_rad"], _ = weak_direction(design)
     return motion
 
 

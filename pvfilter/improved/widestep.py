@@ -108,7 +108,6 @@ def wide_step(
     wide = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, correction.pairs, correction.residual_m)
     wide.__dict__["weak_rows"] = correction.weak_rows  # what the refit saw of the drive
     wide.__dict__["weak_axis_rad"] = correction.weak_axis_rad
-    wide.__dict__["strong_rows"] = correction.strong_rows
     return wide
 
 

@@ -505,6 +505,11 @@ def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
     thinned = evaluate_labelled(thinned_path, improved)
     assert every.scans == thinned.scans == len(range(0, count, 3))
     assert (every.tp, every.fp, every.positives) == (thinned.tp, thinned.fp, thinned.positives)
+    # thinned first: the noise is drawn on the scans kept, as on the thinned file
+    noisy = evaluate_labelled(path, improved, every=3, range_noise_m=0.03)
+    noisy_thinned = evaluate_labelled(thinned_path, improved, range_noise_m=0.03)
+    assert (noisy.tp, noisy.fp) == (noisy_thinned.tp, noisy_thinned.fp)
+    assert noisy.tp != every.tp or noisy.fp != every.fp
     out = tmp_path / "report"
     assert main(["eval-labels", str(path), "--every", "3", "--out", str(out)]) == 0
     assert json.loads((out / "report.json").read_text())["every"] == 3

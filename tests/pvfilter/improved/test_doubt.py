@@ -7,7 +7,7 @@ import pytest
 
 from pvfilter.improved import BeamLayout
 from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
-from pvfilter.improved.egomotion import SEEN
+from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN
 from pvfilter.improved.widestep import prior_doubt_m
 
 from .conftest import room_scan
@@ -17,7 +17,7 @@ LAYOUT = BeamLayout.of(SCAN)
 AHEAD = int(np.argmin(np.abs(SCAN.angles())))
 LEFT = int(np.argmin(np.abs(SCAN.angles() - math.pi / 2)))
 NO_VIEW = np.full(len(SCAN), np.nan)  # no surface known: taken across each beam
-BLIND_ALONG_X = (WEAK_ROWS - 1.0, 0.0, 100.0)  # a fit on walls along x only
+BLIND_ALONG_X = (WEAK_ROWS - 1.0, 0.0)  # a fit on walls along x only
 
 
 def doubt_after(steps, dt=0.2, weak=BLIND_ALONG_X):
@@ -39,7 +39,7 @@ def test_weak_steps_of_an_event_add_their_prior_doubt_along_the_weak_axis_as_dis
     assert doubt.along_beams(LAYOUT, NO_VIEW)[AHEAD] == pytest.approx(along[AHEAD])
     assert ViewDoubt().along_beams(LAYOUT, NO_VIEW) is None
     # a NaN direction adds nothing
-    assert doubt_after(3, weak=(0.0, math.nan, 0.0)).along_beams(LAYOUT, NO_VIEW) is None
+    assert doubt_after(3, weak=(0.0, math.nan)).along_beams(LAYOUT, NO_VIEW) is None
 
 
 def test_a_step_between_level_scans_adds_no_doubt_and_the_doubt_shrinks_as_the_view_catches_up():
@@ -57,11 +57,39 @@ def test_a_step_between_level_scans_adds_no_doubt_and_the_doubt_shrinks_as_the_v
 
 
 def test_the_doubt_turns_with_the_sensor():
+    # doubt along x; the sensor turns 45 deg left: the old x axis now points 45 deg to
+    # the right of the new one (a static point at q is at R(theta) q in the new frame,
+    # theta = -45 deg for a left turn), so the beam at -45 deg carries all of it
     doubt = doubt_after(1, dt=0.1)
-    doubt.carry(math.pi / 2, SEEN, 0.1)  # a quarter turn: x is now y
+    doubt.carry(-math.pi / 4, SEEN, 0.1)
+    right = int(np.argmin(np.abs(SCAN.angles() + math.pi / 4)))
+    left = int(np.argmin(np.abs(SCAN.angles() - math.pi / 4)))
     along = doubt.along_beams(LAYOUT, NO_VIEW)
-    assert along[LEFT] == pytest.approx(prior_doubt_m(0.1))
-    assert along[AHEAD] == pytest.approx(0.0, abs=1e-3)
+    assert along[right] == pytest.approx(prior_doubt_m(0.1), rel=1e-3)
+    assert along[left] == pytest.approx(0.0, abs=1e-3)
+    xx, xy, yy = doubt.grown
+    assert xy < 0.0 and xx == pytest.approx(yy)
+
+
+def test_surfaces_facing_the_doubt_confirm_the_view_and_others_do_not():
+    doubt = doubt_after(2)  # along x
+    on_view = np.zeros(len(SCAN), bool)
+    on_view[AHEAD - 15 : AHEAD + 15] = True  # 30 returns on the view ahead
+    across_x = np.full(len(SCAN), math.pi / 2)  # a wall across x: it shows where x lies
+    along_x = np.zeros(len(SCAN))  # walls along x: they do not
+    assert doubt.confirmed(on_view, across_x)
+    assert not doubt.confirmed(on_view, along_x)
+    assert not doubt.confirmed(on_view, np.full(len(SCAN), np.nan))
+    on_view[AHEAD - 15 : AHEAD + 6] = False  # 9 left: too few
+    assert not doubt.confirmed(on_view, across_x)
+
+
+def test_a_step_longer_than_the_robot_can_brake_through_is_bounded_by_its_top_speed():
+    doubt = ViewDoubt()
+    doubt.carry(0.0, BLIND_ALONG_X, 2.2)  # a match resumed after a long coast
+    along = doubt.along_beams(LAYOUT, NO_VIEW)[AHEAD]
+    assert along == pytest.approx(min(prior_doubt_m(2.2), MAX_SPEED_MPS * 2.2))
+    assert along < prior_doubt_m(2.2)
 
 
 def line_view(normal_deg, distance_m=3.0):
