@@ -175,7 +175,10 @@ def _grown(
 
 def _shrunk(doubt: tuple[float, float, float], by_m: float) -> tuple[float, float, float]:
     """``doubt`` with the standard deviation along each of its axes less ``by_m`` (none
-    left below a micrometre)."""
+    left below a micrometre; none at all where the view comes closer at once: an
+    unbounded ``line_shrink_mps``)."""
+    if not by_m < math.inf:  # (NaN compares False)
+        return (0.0, 0.0, 0.0)
     xx, xy, yy = doubt
     half_sum, spread = 0.5 * (xx + yy), math.hypot(0.5 * (xx - yy), xy)
     major_m = math.sqrt(max(half_sum + spread, 0.0)) - by_m

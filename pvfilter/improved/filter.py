@@ -400,7 +400,9 @@ class ImprovedPitchVariationFilter:
         level = self._level(detection.tilted or coast, prepared.dt)
         # the doubt of a step into or out of a pitch event stays; after it the view comes
         # closer behind lines across the travel at line_shrink_mps plus the drive
-        creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
+        creep_m = 0.0  # (at once, dt 0: no time to come closer; inf * 0 is NaN)
+        if prepared.dt > 0.0:
+            creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
         self._doubt.settle(was_in_event or not level, creep_m)
         hold = self._hold(detection)
         self._memory.update(

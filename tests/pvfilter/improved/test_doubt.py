@@ -114,3 +114,11 @@ def test_an_oblique_surface_moves_along_its_beam_by_the_shift_over_the_incidence
     assert no_view[beam] == pytest.approx(shift_m * math.cos(math.pi / 4), rel=1e-3)
     assert doubt.along_beams(LAYOUT, line_view(90.0))[LEFT] == pytest.approx(0.0, abs=1e-3)
     assert doubt.along_beams(LAYOUT, line_view(80.0))[AHEAD] == pytest.approx(shift_m)
+
+
+def test_a_view_that_comes_closer_at_once_keeps_no_doubt():
+    # line_shrink_mps unbounded: after a level scan nothing is left, nor is it NaN
+    for creep_m in (math.inf, math.nan):
+        doubt = doubt_after(3)
+        doubt.settle(False, creep_m)
+        assert doubt.doubt == (0.0, 0.0, 0.0)

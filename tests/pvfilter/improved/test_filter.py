@@ -811,3 +811,20 @@ def test_level_driving_past_walls_that_show_no_drive_grows_no_doubt():
         scan, _ = tilted_scan((0.2 * k, 0.0, 0.0), 0.0, stamp=0.2 * k, walls=walls)
         assert not pvf.process(scan).removed.any()
     assert pvf._doubt.doubt == (0.0, 0.0, 0.0)
+
+
+def test_an_unbounded_line_shrink_leaves_the_doubt_finite():
+    # line_shrink_mps = inf (the ablation's no_line_rate): the first scan of a sequence
+    # has dt 0, and inf * 0 had made the doubt NaN, after which no return was ever new
+    params = ImprovedParams(
+        lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M, line_shrink_mps=math.inf
+    )
+    pvf = ImprovedPitchVariationFilter(params)
+    found = floor = 0
+    for k, pitch_deg in enumerate([0.0] * 8 + [10.0, 12.0, 10.0, 6.0] + [0.0] * 4):
+        scan, hit = tilted_scan((0.0, 0.0, 0.0), math.radians(pitch_deg), stamp=0.2 * k, walls=HALL)
+        result = pvf.process(scan)
+        found += int((result.removed & (hit == 2)).sum())
+        floor += int((hit == 2).sum())
+        assert all(math.isfinite(v) for v in pvf._doubt.doubt)
+    assert found > 0.95 * floor
