@@ -14,7 +14,8 @@ the returns as no echo (a scanner that misses dark or shiny surfaces); ``--no-ec
 VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (how scanners
 write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
-turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention).
+turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention);
+``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -107,6 +108,16 @@ def build_parser() -> argparse.ArgumentParser:
         help="negate the IMU's pitch (with --inputs imu): an IMU that gives it positive nose "
         "up, the other convention, wired in as it is",
     )
+    parser.add_argument(
+        "--every",
+        type=int,
+        default=1,
+        metavar="N",
+        help="keep every Nth scan, from the first, with its labels and robot inputs, "
+        "before any other change: a log thinned out, or a scanner that scans N times less "
+        "often (each scan's own sweep timing kept; the improved filter compares no scans "
+        "farther apart than its max_gap_s) (default: 1, every scan)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -135,6 +146,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(
             f"--angle-jitter: beams in [0, {MAX_ANGLE_JITTER_BEAMS:g}], got {args.angle_jitter}"
         )
+    if args.every < 1:
+        raise ValueError(f"--every: a number of scans >= 1, got {args.every}")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -168,6 +181,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 no_echo_reads=NO_ECHO_READS.get(args.no_echo_reads),
                 angle_jitter_beams=args.angle_jitter,
                 imu_nose_up=args.imu_nose_up,
+                every=args.every,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -258,6 +272,7 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "no_echo_reads": args.no_echo_reads,
         "angle_jitter_beams": args.angle_jitter,
         "imu_nose_up": args.imu_nose_up,
+        "every": args.every,
         "target_auc": args.target,
         "summary": summaries,
     }
@@ -283,6 +298,8 @@ def _no_nan(value):
 def _scanner_changes(args: argparse.Namespace) -> str:
     """What the scans were changed by before the filters ran, as sentences ("" for none)."""
     changes = ""
+    if args.every > 1:  # first: the other changes are drawn on the scans kept
+        changes += f" Every {_ordinal(args.every)} scan kept, from the first."
     if args.range_noise > 0.0:
         changes += (
             f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "
@@ -302,6 +319,13 @@ def _scanner_changes(args: argparse.Namespace) -> str:
             "(the same draws every run)."
         )
     return changes
+
+
+def _ordinal(n: int) -> str:
+    """``2nd``, ``3rd``, ``4th``, ``11th``, ``21st``."""
+    if 10 <= n % 100 <= 20:
+        return f"{n}th"
+    return f"{n}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(n % 10, 'th') }"
 
 
 def markdown(reports, summaries, inputs, target, settings, changes="") -> str:

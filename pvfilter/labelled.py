@@ -318,6 +318,7 @@ def evaluate_labelled(
     no_echo_reads: float | str | None = None,
     angle_jitter_beams: float = 0.0,
     imu_nose_up: bool = False,
+    every: int = 1,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -346,6 +347,8 @@ def evaluate_labelled(
             either way (0: none; :func:`with_angle_jitter`).
         imu_nose_up: the IMU's pitch negated, as an IMU that gives it positive nose up
             (the other convention) would feed it.
+        every: every this many scans is kept, from the first, with its labels and inputs
+            (1: all): a scanner that turns that many times slower, or a thinned log.
 
     Returns:
         The report; None when the file holds no scans.
@@ -362,6 +365,8 @@ def evaluate_labelled(
     if not scans:
         return None
     labels = scan_labels(arrays, source, len(scans))
+    count = len(scans)  # the file's, for its per-scan inputs
+    scans, labels = scans[::every], labels[::every]
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if occluded_reads is not None:
@@ -382,7 +387,7 @@ def evaluate_labelled(
     )
     told = {k: v for k, v in geometry.items() if k in takes}  # what the filter is told
     usable = set(entry.accepts) | set(entry.needs)  # (a filter gets what it takes)
-    per_scan = robot_inputs_of(arrays, len(scans), inputs, source)
+    per_scan = robot_inputs_of(arrays, count, inputs, source)[::every]
     per_scan = [{k: v for k, v in extra.items() if k in usable} for extra in per_scan]
     if imu_nose_up:
         per_scan = [

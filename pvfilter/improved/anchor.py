@@ -65,6 +65,7 @@ SEARCH_SPAN_M = 1.0  # m: the largest view error along x searched for (the unsee
 # of a pitch event: a hard stop from 1 m/s, or its constant-velocity guess, in a second)
 SEARCH_STEP_M = 0.1  # m: the search's step (the registration from it reaches twice that)
 REFINE_ASSOCIATION_M = 0.2  # m: the registration's association from the search's shift
+CROSSING_DEG = 30.0  # deg: returns this far off a line's direction are on another surface
 
 
 def register_view(
@@ -117,21 +118,47 @@ def within_margin(correction: Motion, params: ImprovedParams) -> bool:
 
 
 def explains_view_error(
-    gaps_before: np.ndarray, gaps_after: np.ndarray, margin: np.ndarray
+    gaps_before: np.ndarray, gaps_after: np.ndarray, margin: np.ndarray, directions: np.ndarray
 ) -> bool:
-    """A corrected view explains the scan better, through returns seen beyond it.
+    """A corrected view explains the scan better: it puts ``MIN_GAIN`` more returns on the
+    view, and explains returns seen through it or new returns on surfaces that cross.
 
     Args:
         gaps_before: per beam, how far in front of the view the return lies, m (NaN:
             unknown), before the correction (:func:`~pvfilter.improved.evidence.free_space_gaps`).
         gaps_after: the same after it.
         margin: the free-space margin per beam, m.
+        directions: the local line direction per beam, rad (NaN: none).
     """
     on_before = np.count_nonzero(np.abs(gaps_before) <= margin)  # NaN compares False
     on_after = np.count_nonzero(np.abs(gaps_after) <= margin)
+    if not on_after > (1.0 + MIN_GAIN) * on_before:
+        return False
     through_before = np.count_nonzero(gaps_before < -margin)
     through_after = np.count_nonzero(gaps_after < -margin)
-    return on_after > (1.0 + MIN_GAIN) * on_before and through_before - through_after >= MIN_PAIRS
+    if through_before - through_after >= MIN_PAIRS:
+        return True
+    explained = (gaps_before > margin) & (np.abs(gaps_after) <= margin)
+    return on_crossing_surfaces(directions[explained])
+
+
+def on_crossing_surfaces(directions: np.ndarray) -> bool:
+    """Returns with these local line directions (rad) lie on surfaces that cross: at least
+    ``MIN_PAIRS`` of them, and ``MIN_PAIRS // 2`` more than ``CROSSING_DEG`` off their
+    main direction.
+
+    A floor or ceiling line is where a plane meets the scan plane: a straight line. New
+    returns that a correction puts on the view along a corner, or on walls and furniture
+    at several angles, are no such line: the view had drifted (unseen travel with no
+    wall behind within range to show it, so no return is seen through the view).
+    """
+    known = directions[directions == directions]  # NaN compares False
+    if known.size < MIN_PAIRS:
+        return False
+    doubled = 2.0 * known  # a direction and its opposite are one line
+    main = 0.5 * math.atan2(float(np.sin(doubled).sum()), float(np.cos(doubled).sum()))
+    off = np.abs(np.sin(known - main)) > math.sin(math.radians(CROSSING_DEG))
+    return np.count_nonzero(off) >= MIN_PAIRS // 2
 
 
 def offset_along_x(

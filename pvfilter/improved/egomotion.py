@@ -72,6 +72,7 @@ ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
 MIN_REFERENCE_POINTS = MIN_PAIRS  # a scan with fewer points left to match against
 # (its new returns and candidate lines left out) does not replace the reference
+SEEN = (math.inf, 0.0)  # a step's drive seen in every direction (Match.weak)
 ODOM_AGREEMENT_SCANS = 10  # scans: the memory of the odometry's agreement with the matches
 # (an exponential average over about this many trusted matches)
 
@@ -85,12 +86,16 @@ class Match:
         trusted: the match can be trusted.
         tilt_rad: the tilt the scan was unstretched by before the match, rad, >= 0.
         ranges: the scan's ranges, mid-scan and unstretched, m (None: not matched).
+        weak: the fit's least constrained direction of translation: its support in
+            rows and its direction in this scan's frame, rad
+            (:attr:`pvfilter.improved.motion.Motion.weak_rows`; ``SEEN``: no fit).
     """
 
     step: Motion
     trusted: bool
     tilt_rad: float = 0.0
     ranges: np.ndarray | None = None
+    weak: tuple[float, float] = SEEN
 
 
 class EgoMotion:
@@ -238,7 +243,7 @@ class EgoMotion:
                 self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
-        return Match(step, True, guess, ranges)
+        return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
 
     def _odometry_agrees(self, turn_error: float) -> None:
         """Average in one trusted match's turn error against the odometry, in spreads."""

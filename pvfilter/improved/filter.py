@@ -34,7 +34,8 @@ from pvfilter.improved.anchor import (
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
-from pvfilter.improved.egomotion import MAX_SPEED_MPS, EgoMotion, Match
+from pvfilter.improved.doubt import ViewDoubt
+from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
     STATIC_TOLERANCE_M,
     RecentScans,
@@ -152,6 +153,7 @@ class ImprovedPitchVariationFilter:
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
         self._body = BodyBeams()
+        self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
 
@@ -197,7 +199,12 @@ class ImprovedPitchVariationFilter:
         fresh, dt = self._start(scan)
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
+        odometry_prior = prepared.pose is not None and self._ego.pose is not None
         outcome = self._match(prepared, prior, fresh)
+        if not outcome.fresh:  # the view's doubt along what the match could not see
+            weak = SEEN if odometry_prior else outcome.match.weak  # the wheels measure it
+            span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
+            self._doubt.carry(outcome.match.step.theta_rad, weak, span_s)
         found = self._detect(prepared, outcome)
         if outcome.onset and not found.detection.tilted:
             # the match failed on a scan that shows no pitch event: start afresh after all
@@ -388,7 +395,15 @@ class ImprovedPitchVariationFilter:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
         and keep the scan for the world-static test."""
         scan, detection = prepared.scan, found.detection
+        params = self.params
+        was_in_event = 0.0 < self._tilted_s <= params.max_event_s
         level = self._level(detection.tilted or coast, prepared.dt)
+        # the doubt of a step into or out of a pitch event stays; after it the view comes
+        # closer behind lines across the travel at line_shrink_mps plus the drive
+        creep_m = 0.0  # (at once, dt 0: no time to come closer; inf * 0 is NaN)
+        if prepared.dt > 0.0:
+            creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
+        self._doubt.settle(was_in_event or not level, creep_m)
         hold = self._hold(detection)
         self._memory.update(
             prepared.ranges,
@@ -468,6 +483,15 @@ class ImprovedPitchVariationFilter:
         new, through = free_space_evidence(
             gaps, ranges, params.free_margin_m, params.free_margin_rel
         )
+        doubt = self._doubt.along_beams(layout, view.ranges)  # drive the matches missed
+        if doubt is not None:
+            margin = params.free_margin_rel * ranges
+            margin += params.free_margin_m
+            agrees = np.count_nonzero(new) < MIN_PAIRS  # the scan puts the view where it is
+            if agrees and self._doubt.confirmed(np.abs(gaps) <= margin, directions):
+                self._doubt.reset()  # ... on surfaces across the doubt (NaN compares False)
+            else:  # new only beyond it (a return seen through stays so)
+                new &= gaps > np.add(doubt, margin, out=doubt)
         # a drifted view puts returns in front of it and beyond it (re-anchoring must
         # explain MIN_PAIRS of those beyond: with fewer there is nothing to try; with no
         # new return, none seen through is worked out)
@@ -489,8 +513,9 @@ class ImprovedPitchVariationFilter:
                 velocity,
                 unseen_travel,
             )
-            if anchored is not None:
+            if anchored is not None:  # registered on the scan: no doubt left
                 view, gaps = anchored
+                self._doubt.reset()
                 new, through = free_space_evidence(
                     gaps, ranges, params.free_margin_m, params.free_margin_rel
                 )
@@ -544,7 +569,7 @@ class ImprovedPitchVariationFilter:
                 params, *echoes,
             )  # fmt: skip
             moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
-            if not explains_view_error(gaps, moved_gaps, margin):
+            if not explains_view_error(gaps, moved_gaps, margin, directions):
                 return None
             if both_ends and not explains_both_ends(gaps, moved_gaps, margin, layout):
                 return None
@@ -580,6 +605,7 @@ class ImprovedPitchVariationFilter:
         self._ego.reset()
         self._recent.clear()
         self._follower.reset()
+        self._doubt.reset()
         self._tilted_s = 0.0
 
     def _level(self, tilted: bool, dt: float) -> bool:

@@ -47,6 +47,12 @@ class Motion:
         ty_m: translation along the current y axis, m.
         pairs: beam pairs used in the fine step (0: no fit).
         residual_m: median absolute point-to-line residual of the fit, m (NaN: no fit).
+        weak_rows: the fit's support along its least constrained direction of
+            translation, in point-to-line rows (the squared shares of their normals
+            along it, the turn taken out; inf: no fit). Walls all parallel (a corridor,
+            or what a pitched plane still meets) leave the drive along them to a few
+            rows of clutter and the prior.
+        weak_axis_rad: that direction in the current sensor frame, rad (mod pi).
     """
 
     theta_rad: float = 0.0
@@ -54,6 +60,8 @@ class Motion:
     ty_m: float = 0.0
     pairs: int = 0
     residual_m: float = math.nan
+    weak_rows: float = math.inf
+    weak_axis_rad: float = 0.0
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """Points of the reference sensor frame in the current one, m, ``(k, 2)``."""
@@ -222,7 +230,29 @@ def estimate_motion(
     solution = _solve(design, target, expected_turn, weights)
     median = _median(_residuals(design, solution, target), scratch=True)
     fine = coarse.then(motion_of(*solution))
-    return motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
+    motion = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
+    fields = motion.__dict__
+    fields["weak_rows"], fields["weak_axis_rad"], _ = weak_direction(design)
+    return motion
+
+
+def weak_direction(design: np.ndarray) -> tuple[float, float, float]:
+    """The least constrained direction of translation of a point-to-line fit: the smaller
+    eigenvalue of its translation's information with the turn taken out (the Schur
+    complement of the normal equations), in rows, its direction, rad (mod pi), and the
+    larger eigenvalue (the support across it), in rows.
+
+    Args:
+        design: the fit's rows ``(n x p - n y q..., n_x, n_y)``, ``(k, 3)``.
+    """
+    (a, b, c), (_, e, f), (_, _, i) = design.T.dot(design).tolist()
+    if a > 0.0:  # the turn's share taken out: a turn can explain part of a shift
+        e, f, i = e - b * b / a, f - b * c / a, i - c * c / a
+    half_sum, half_diff = 0.5 * (e + i), 0.5 * (e - i)
+    spread = math.hypot(half_diff, f)
+    # the strong axis lies at atan2(2 f, e - i) / 2; the weak one across it
+    axis = 0.5 * math.atan2(2.0 * f, e - i) + 0.5 * math.pi
+    return max(half_sum - spread, 0.0), axis, half_sum + spread
 
 
 def _residuals(design: np.ndarray, solution: tuple[float, ...], target: np.ndarray) -> np.ndarray:

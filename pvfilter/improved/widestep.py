@@ -105,7 +105,10 @@ def wide_step(
         plain, every, seen, layout
     ):
         return None
-    return motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, correction.pairs, correction.residual_m)
+    wide = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, correction.pairs, correction.residual_m)
+    wide.__dict__["weak_rows"] = correction.weak_rows  # what the refit saw of the drive
+    wide.__dict__["weak_axis_rad"] = correction.weak_axis_rad
+    return wide
 
 
 def _hits(motion: Motion, reference: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> int:

@@ -473,3 +473,45 @@ def test_the_imu_nose_up_option_negates_the_pitch_the_filters_get(tmp_path):
     assert json.loads((out / "report.json").read_text())["imu_nose_up"] is True
     assert "pitch is negated" in (out / "report.md").read_text()
     assert main(["eval-labels", str(path), "--imu-nose-up"]) == 2  # without --inputs imu
+
+
+def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
+    # keeping every 3rd scan is the file written with every 3rd scan, labels and robot
+    # inputs with it
+    arrays, _ = labelled_arrays()
+    count = len(arrays["ranges"])
+    arrays["pitch_rad"] = np.linspace(-0.1, 0.1, count)
+    path, thinned_path = tmp_path / "full.npz", tmp_path / "thinned.npz"
+    np.savez(path, **arrays)
+    per_scan = {k for k, v in arrays.items() if np.ndim(v) >= 1 and len(v) == count}
+    np.savez(thinned_path, **{k: v[::3] if k in per_scan else v for k, v in arrays.items()})
+    seen = []
+
+    class PitchSpy(Spy):
+        def process(self, scan, **inputs):
+            seen.append(inputs["pitch_rad"])
+            return super().process(scan)
+
+    entry = register_filter(
+        FilterEntry("pitch_spy", PitchSpy, OracleParams, "", needs=("pitch_rad",))
+    )
+    try:
+        evaluate_labelled(path, entry, inputs=["imu"], every=3)
+    finally:
+        unregister_filter("pitch_spy")
+    np.testing.assert_allclose(seen, arrays["pitch_rad"][::3])
+    improved = filter_entry("improved")
+    every = evaluate_labelled(path, improved, every=3)
+    thinned = evaluate_labelled(thinned_path, improved)
+    assert every.scans == thinned.scans == len(range(0, count, 3))
+    assert (every.tp, every.fp, every.positives) == (thinned.tp, thinned.fp, thinned.positives)
+    # thinned first: the noise is drawn on the scans kept, as on the thinned file
+    noisy = evaluate_labelled(path, improved, every=3, range_noise_m=0.03)
+    noisy_thinned = evaluate_labelled(thinned_path, improved, range_noise_m=0.03)
+    assert (noisy.tp, noisy.fp) == (noisy_thinned.tp, noisy_thinned.fp)
+    assert noisy.tp != every.tp or noisy.fp != every.fp
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(path), "--every", "3", "--out", str(out)]) == 0
+    assert json.loads((out / "report.json").read_text())["every"] == 3
+    assert "Every 3rd scan kept" in (out / "report.md").read_text()
+    assert main(["eval-labels", str(path), "--every", "0"]) == 2

@@ -18,11 +18,12 @@ from pvfilter.improved.anchor import (
     explains_both_ends,
     explains_view_error,
     offset_along_x,
+    on_crossing_surfaces,
     register_view,
     within_margin,
 )
 from pvfilter.improved.evidence import free_space_gaps
-from pvfilter.improved.motion import STILL
+from pvfilter.improved.motion import MIN_PAIRS, STILL
 
 from .conftest import HEIGHT_M, room_scan
 from .test_evidence import directions_of, ranges_of
@@ -98,7 +99,7 @@ def test_a_drifted_view_is_corrected_where_returns_are_seen_through_it():
     after = free_space_gaps(ranges, view_of(drifted, correction).ranges, layout, scan.range_max)
     margin = margin_of(scan)
     assert (before < -margin).sum() > 50  # the walls behind lie beyond the view
-    assert explains_view_error(before, after, margin)
+    assert explains_view_error(before, after, margin, directions_of(scan))
     assert (np.abs(after) <= margin).mean() > 0.95 * np.isfinite(after).mean()
 
 
@@ -119,7 +120,42 @@ def test_a_floor_line_in_front_of_a_parallel_wall_is_not_taken_for_drift():
     after = free_space_gaps(ranges, view_of(ahead, correction).ranges, layout, pitched.range_max)
     margin = margin_of(pitched)
     assert (np.abs(after) <= margin).sum() > 2 * (np.abs(before) <= margin).sum()
-    assert not explains_view_error(before, after, margin)
+    # the returns it puts on the view are the floor line's: one straight line
+    assert not explains_view_error(before, after, margin, directions_of(pitched))
+
+
+def test_a_drifted_view_with_nothing_behind_is_corrected_where_it_explains_a_corner():
+    # seen ahead and to the left only (a hall: nothing else within range), the view is
+    # left behind the sensor and to its right by travel the scans did not see: the wall
+    # ahead and the wall on the left stand in front of it, and no return lies beyond it.
+    # The returns the registration brings back lie on both walls: surfaces that cross,
+    # which no floor line is
+    drifted, _ = room_scan((-0.25, -0.3, 0.0), noise_m=0.0)
+    scan, _ = room_scan(noise_m=0.005, seed=1)
+    seen = (np.cos(scan.angles()) > 0.0) & (np.sin(scan.angles()) > 0.0)
+    scan = scan.with_ranges(np.where(seen, scan.ranges, np.inf))
+    drifted = drifted.with_ranges(np.where(seen, drifted.ranges, np.nan))
+    layout = BeamLayout.of(scan)
+    ranges, directions, view = ranges_of(scan), directions_of(scan), view_of(drifted)
+    correction = register_view(ranges, directions, view.ranges, layout)
+    assert correction is not None
+    before = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
+    after = free_space_gaps(ranges, view_of(drifted, correction).ranges, layout, scan.range_max)
+    margin = margin_of(scan)
+    assert (before > margin).sum() > 100 and (after > margin).sum() < 10  # new, then on it
+    assert (before < -margin).sum() == 0  # nothing seen through the view to explain
+    assert explains_view_error(before, after, margin, directions)
+
+
+def test_returns_on_one_line_are_not_on_crossing_surfaces():
+    rng = np.random.default_rng(0)
+    line = math.radians(80.0) + rng.normal(0.0, math.radians(5.0), 200)
+    assert not on_crossing_surfaces(line)
+    corner = np.concatenate([line, line[: MIN_PAIRS // 2] - math.pi / 2])
+    assert on_crossing_surfaces(corner)
+    assert not on_crossing_surfaces(corner[-MIN_PAIRS + 1 :])  # too few to tell
+    # a direction and its opposite are one line; NaN (no direction) is left out
+    assert not on_crossing_surfaces(np.concatenate([line, line + math.pi, [np.nan] * 50]))
 
 
 def drifted_filter(reanchor_view: bool) -> tuple[ImprovedPitchVariationFilter, np.ndarray]:
@@ -162,7 +198,7 @@ def test_a_view_off_along_x_beyond_the_registrations_reach_is_found_by_the_searc
     correction = register_view(ranges, directions, view.ranges, layout, shift, REFINE_ASSOCIATION_M)
     assert correction is not None and abs(correction.tx_m - FAR_DRIFT[0]) < 0.01
     after = free_space_gaps(ranges, view_of(drifted, correction).ranges, layout, scan.range_max)
-    assert explains_view_error(before, after, margin)
+    assert explains_view_error(before, after, margin, directions)
     assert explains_both_ends(before, after, margin, layout)
     # with no drift there is nothing to search for
     level = view_of(room_scan(noise_m=0.0)[0])

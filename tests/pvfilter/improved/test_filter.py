@@ -748,3 +748,83 @@ def test_a_blocked_sector_that_returns_no_echo_removes_nothing_while_turning(tur
         blocked = (angles >= BLOCKED_SECTOR[0]) & (angles <= BLOCKED_SECTOR[1])
         result = pvf.process(scan.with_ranges(np.where(blocked, np.inf, scan.ranges)))
         assert not result.removed.any(), k
+
+
+HALL = np.array(  # side walls 1.5 m either side, an end wall 4 m ahead of the start
+    [[[4.0, 1.5], [-30.0, 1.5]], [[4.0, -1.5], [-30.0, -1.5]], [[4.0, -1.5], [4.0, 1.5]]]
+)
+
+
+@pytest.mark.parametrize(
+    ("odometry", "speed_scale", "scan_10"),
+    [("none", 1.0, "as cast"), ("slipping", 1.0, "as cast"), ("none", 1.0, "silent ahead"),
+     ("none", 1.2, "floor only")],
+)  # fmt: skip
+def test_a_drive_the_matches_could_not_see_leaves_the_wall_ahead_standing(
+    odometry, speed_scale, scan_10
+):
+    # a hall at 5 Hz, with nothing behind the sensor within range: the robot starts off
+    # as it pitches, and the floor line hides the wall ahead, so each match rests on the
+    # side walls alone and cannot see the drive (the constant-velocity prior says the
+    # robot stands). When it levels, the wall ahead stands up to 0.7 m in front of the
+    # view. The view's doubt along the drive (doubt.py) keeps that wall from being new:
+    # on the old code it was removed as a floor line for two scans (198 beams).
+    # - wheels that spin in the event give steps no robot makes: no odometry;
+    # - a scan that shows nothing ahead (a floor that returns no echo) confirms nothing of
+    #   where the view lies along the drive;
+    # - a scan with only its floor line coasts, and the match after it spans both steps
+    pvf = ImprovedPitchVariationFilter(
+        ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    )
+    pitches_deg = [0.0] * 8 + [10.0, 12.0, 10.0, 6.0] + [0.0] * 10
+    speeds_mps = [0.0] * 8 + [0.4, 0.8, 1.2, 1.2, 0.8, 0.4] + [0.0] * 8
+    x_m = false_alarms = floor_found = floor_beams = 0
+    for k, (pitch_deg, speed_mps) in enumerate(zip(pitches_deg, speeds_mps, strict=True)):
+        x_m += speed_mps * speed_scale * 0.2
+        scan, hit = tilted_scan((x_m, 0.0, 0.0), math.radians(pitch_deg), stamp=0.2 * k, walls=HALL)
+        if k == 10 and scan_10 == "silent ahead":
+            scan = scan.with_ranges(np.where(np.abs(scan.angles()) < 1.0, np.inf, scan.ranges))
+            hit = np.where(np.abs(scan.angles()) < 1.0, 0, hit)
+        if k == 10 and scan_10 == "floor only":
+            scan = scan.with_ranges(np.where(hit == 2, scan.ranges, np.inf))
+        pose = None
+        if odometry == "slipping":  # spinning from the event on: 3 m and 1.5 rad a step
+            pose = (x_m, 0.0, 0.0) if k < 8 else (x_m + 3.0 * (k - 7), 0.0, 1.5 * (k - 7))
+        result = pvf.process(scan, pose_sensor_in_odom=pose)
+        if k == 10 and scan_10 == "floor only":
+            assert result.lines.coasted
+        false_alarms += int((result.removed & (hit == 1)).sum())
+        floor_found += int((result.removed & (hit == 2)).sum())
+        floor_beams += int((hit == 2).sum())
+    assert false_alarms == 0
+    assert floor_found > 0.95 * floor_beams
+
+
+def test_level_driving_past_walls_that_show_no_drive_grows_no_doubt():
+    # 30 level scans at 5 Hz down a corridor with nothing ahead or behind within range:
+    # every match is blind along the drive, but each level scan renews the view
+    walls = np.array([[[-30.0, 1.2], [30.0, 1.2]], [[-30.0, -1.2], [30.0, -1.2]]])
+    pvf = ImprovedPitchVariationFilter(
+        ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    )
+    for k in range(30):
+        scan, _ = tilted_scan((0.2 * k, 0.0, 0.0), 0.0, stamp=0.2 * k, walls=walls)
+        assert not pvf.process(scan).removed.any()
+    assert pvf._doubt.doubt == (0.0, 0.0, 0.0)
+
+
+def test_an_unbounded_line_shrink_leaves_the_doubt_finite():
+    # line_shrink_mps = inf (the ablation's no_line_rate): the first scan of a sequence
+    # has dt 0, and inf * 0 had made the doubt NaN, after which no return was ever new
+    params = ImprovedParams(
+        lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M, line_shrink_mps=math.inf
+    )
+    pvf = ImprovedPitchVariationFilter(params)
+    found = floor = 0
+    for k, pitch_deg in enumerate([0.0] * 8 + [10.0, 12.0, 10.0, 6.0] + [0.0] * 4):
+        scan, hit = tilted_scan((0.0, 0.0, 0.0), math.radians(pitch_deg), stamp=0.2 * k, walls=HALL)
+        result = pvf.process(scan)
+        found += int((result.removed & (hit == 2)).sum())
+        floor += int((hit == 2).sum())
+        assert all(math.isfinite(v) for v in pvf._doubt.doubt)
+    assert found > 0.95 * floor

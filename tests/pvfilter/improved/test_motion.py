@@ -7,7 +7,13 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, Motion, estimate_motion, segment_scan
-from pvfilter.improved.motion import coarse_turn, motion_of, nearer_than, odometry_motion
+from pvfilter.improved.motion import (
+    coarse_turn,
+    motion_of,
+    nearer_than,
+    odometry_motion,
+    weak_direction,
+)
 from pvfilter.improved.sweep import deskew, move_scan, skew
 
 from .conftest import room_scan
@@ -30,6 +36,16 @@ def inputs(scan):
 
 
 STILL = Motion()
+
+
+def segment_scan_of(walls, pose, seed):
+    """A noisy scan of ``walls`` (world frame) from ``pose``."""
+    from pvfilter.synthetic import segment_scan as cast
+
+    from .conftest import to_sensor
+
+    rng = np.random.default_rng(seed)
+    return cast(to_sensor(walls, pose), noise_m=0.005, rng=rng)
 
 
 def match(before, after, prior=STILL):
@@ -59,6 +75,39 @@ def test_estimate_recovers_the_sensor_motion(pose):
     assert motion.theta_rad == pytest.approx(expected.theta_rad, abs=math.radians(0.3))
     assert (motion.tx_m, motion.ty_m) == pytest.approx((expected.tx_m, expected.ty_m), abs=0.015)
     assert motion.pairs > 100 and motion.residual_m < 0.02
+
+
+def test_a_fit_on_parallel_walls_is_weak_along_them():
+    # side walls only (a corridor, or what a pitched plane still meets): the drive along
+    # them rests on no row; a room's four walls constrain both directions
+    corridor = np.array([[[-20.0, 1.2], [20.0, 1.2]], [[-20.0, -1.2], [20.0, -1.2]]])
+    for walls, weak_below, strong_above in ((corridor, 1.0, None), (None, None, 50.0)):
+        if walls is None:
+            before, _ = room_scan(seed=1)
+            after, _ = room_scan((0.05, 0.0, 0.0), seed=2)
+        else:
+            before = segment_scan_of(walls, (0.0, 0.0, 0.0), seed=1)
+            after = segment_scan_of(walls, (0.05, 0.0, 0.0), seed=2)
+        motion = match(before, after)
+        assert motion.pairs > 100
+        if weak_below is not None:
+            assert motion.weak_rows < weak_below
+            assert abs(math.sin(motion.weak_axis_rad)) < 0.05  # along x
+        else:
+            assert motion.weak_rows > strong_above
+
+
+def test_the_weak_direction_takes_the_turn_out():
+    # 100 rows on a wall across x, and 100 on a piece of wall along x, all 3 m ahead: a
+    # turn moves that piece along y as a shift does, so y rests on no row once the turn
+    # is free (its translation alone would seem measured by 100 rows either way)
+    design = np.array([[0.0, 1.0, 0.0]] * 100 + [[3.0, 0.0, 1.0]] * 100)
+    rows, axis, strong = weak_direction(design)
+    assert rows == pytest.approx(0.0, abs=1e-9) and strong == pytest.approx(100.0)
+    assert abs(math.cos(axis)) < 1e-9  # along y
+    design[100:, 0] = 0.0  # the piece at the sensor's side: the turn does not move it
+    rows, _, strong = weak_direction(design)
+    assert rows == pytest.approx(100.0) and strong == pytest.approx(100.0)
 
 
 def test_coarse_turn_finds_the_shift_of_a_turned_scan():

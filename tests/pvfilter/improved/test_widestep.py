@@ -52,6 +52,11 @@ def test_a_drive_beyond_the_pairs_reach_is_found_by_the_search():
     assert found.tx_m == pytest.approx(truth.tx_m, abs=0.02)
     assert found.ty_m == pytest.approx(truth.ty_m, abs=0.02)
     assert found.theta_rad == pytest.approx(truth.theta_rad, abs=math.radians(0.3))
+    # the refit's support along its least constrained direction comes with it (without
+    # it the step would count as seen in every direction): the corridor's long walls fix
+    # y, fewer returns (its ends, the jambs) the drive along x
+    assert math.isfinite(found.weak_rows) and found.weak_rows > 0.0
+    assert abs(math.sin(found.weak_axis_rad)) < 0.2
 
 
 def test_a_search_the_scan_does_not_confirm_is_not_taken():
