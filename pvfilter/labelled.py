@@ -348,7 +348,7 @@ def evaluate_labelled(
         imu_nose_up: the IMU's pitch negated, as an IMU that gives it positive nose up
             (the other convention) would feed it.
         every: every this many scans is kept, from the first, with its labels and inputs
-            (1: all): a scanner that turns that many times slower, or a thinned log.
+            (1: all): a thinned log, or a scanner that scans that many times less often.
 
     Returns:
         The report; None when the file holds no scans.

@@ -62,7 +62,7 @@ class ViewDoubt:
         """No doubt: the view is where the last scans saw it."""
         self.doubt = self.grown = (0.0, 0.0, 0.0)  # (xx, xy, yy), m^2
 
-    def carry(self, turn_rad: float, weak: tuple[float, float, float], span_s: float) -> None:
+    def carry(self, turn_rad: float, weak: tuple[float, float], span_s: float) -> None:
         """The view moved into this scan's frame by a step that turned ``turn_rad``,
         fitted with ``weak`` support (:attr:`pvfilter.improved.egomotion.Match.weak`;
         inf rows: seen, or measured by the wheels) over ``span_s`` since the last matched
@@ -89,10 +89,8 @@ class ViewDoubt:
         """``MIN_PAIRS`` returns on the view (``on_view``, per beam) lie on surfaces
         (local line ``directions``, rad, NaN: none) that face the doubt's main direction:
         they show where the view lies along it."""
-        xx, xy, yy = self.grown
-        axis = 0.5 * math.atan2(2.0 * xy, xx - yy)  # the covariance's major axis
         normals = directions.take(np.flatnonzero(on_view)) + 0.5 * math.pi
-        facing = np.abs(np.cos(normals - axis)) >= FACING_COS  # NaN compares False
+        facing = np.abs(np.cos(normals - _major_axis(self.grown))) >= FACING_COS  # NaN: False
         return np.count_nonzero(facing) >= MIN_PAIRS
 
     def along_beams(self, layout: BeamLayout, view_ranges: np.ndarray) -> np.ndarray | None:
@@ -105,16 +103,14 @@ class ViewDoubt:
             layout: the beams.
             view_ranges: the level view in this scan's frame, m (NaN unknown, inf free).
         """
-        xx, xy, yy = self.grown
-        if not (xx or yy):
+        if not (self.grown[0] or self.grown[2]):
             return None
         cos, sin = layout.cos, layout.sin
         directions = surface_directions(view_ranges, layout)
         normal_x, normal_y = -np.sin(directions), np.cos(directions)
         unknown = directions != directions  # NaN
         normal_x[unknown], normal_y[unknown] = cos[unknown], sin[unknown]
-        variance = xx * normal_x * normal_x + 2.0 * xy * normal_x * normal_y
-        variance += yy * normal_y * normal_y
+        variance = _variance_along(self.grown, normal_x, normal_y)
         facing = np.abs(normal_x * cos + normal_y * sin)
         return np.sqrt(np.maximum(variance, 0.0)) / np.maximum(facing, GRAZING_COS)
 
@@ -168,7 +164,7 @@ def _grown(
     deviation along the axis grows from ``s`` to ``s + step_m`` (errors of one sign)."""
     xx, xy, yy = doubt
     c, s = math.cos(axis_rad), math.sin(axis_rad)
-    along = math.sqrt(max(xx * c * c + 2.0 * xy * c * s + yy * s * s, 0.0))
+    along = math.sqrt(max(_variance_along(doubt, c, s), 0.0))
     added = (2.0 * along + step_m) * step_m
     return xx + added * c * c, xy + added * c * s, yy + added * s * s
 
@@ -186,10 +182,22 @@ def _shrunk(doubt: tuple[float, float, float], by_m: float) -> tuple[float, floa
     if major_m < NEGLIGIBLE_M:
         return (0.0, 0.0, 0.0)
     major, minor = major_m * major_m, max(minor_m, 0.0) ** 2
-    axis = 0.5 * math.atan2(2.0 * xy, xx - yy)  # the major axis
+    axis = _major_axis(doubt)
     c, s = math.cos(axis), math.sin(axis)
     return (
         major * c * c + minor * s * s,
         (major - minor) * c * s,
         major * s * s + minor * c * c,
     )
+
+
+def _variance_along(doubt: tuple[float, float, float], c, s):
+    """``u^T S u`` for the unit direction ``u = (c, s)`` (floats or arrays), m^2."""
+    xx, xy, yy = doubt
+    return xx * c * c + 2.0 * xy * c * s + yy * s * s
+
+
+def _major_axis(doubt: tuple[float, float, float]) -> float:
+    """The direction of the covariance's larger axis, rad (mod pi)."""
+    xx, xy, yy = doubt
+    return 0.5 * math.atan2(2.0 * xy, xx - yy)

@@ -227,25 +227,27 @@ def estimate_motion(
     if keep.size < MIN_PAIRS:
         return prior
     design, target = design.take(keep, axis=0), target.take(keep)
-    solution = _solve(design, target, expected_turn, weights)
+    normal = design.T.dot(design).tolist()  # (once: the solve and the weak direction)
+    solution = _solve(design, target, expected_turn, weights, normal)
     median = _median(_residuals(design, solution, target), scratch=True)
     fine = coarse.then(motion_of(*solution))
     motion = motion_of(fine.theta_rad, fine.tx_m, fine.ty_m, int(keep.size), median)
     fields = motion.__dict__
-    fields["weak_rows"], fields["weak_axis_rad"], _ = weak_direction(design)
+    fields["weak_rows"], fields["weak_axis_rad"], _ = weak_direction(normal)
     return motion
 
 
-def weak_direction(design: np.ndarray) -> tuple[float, float, float]:
+def weak_direction(normal: list[list[float]]) -> tuple[float, float, float]:
     """The least constrained direction of translation of a point-to-line fit: the smaller
     eigenvalue of its translation's information with the turn taken out (the Schur
     complement of the normal equations), in rows, its direction, rad (mod pi), and the
     larger eigenvalue (the support across it), in rows.
 
     Args:
-        design: the fit's rows ``(n x p - n y q..., n_x, n_y)``, ``(k, 3)``.
+        normal: the fit's normal matrix ``design^T design`` as nested lists, its rows
+            ``(n x p - n y q..., n_x, n_y)``.
     """
-    (a, b, c), (_, e, f), (_, _, i) = design.T.dot(design).tolist()
+    (a, b, c), (_, e, f), (_, _, i) = normal
     if a > 0.0:  # the turn's share taken out: a turn can explain part of a shift
         e, f, i = e - b * b / a, f - b * c / a, i - c * c / a
     half_sum, half_diff = 0.5 * (e + i), 0.5 * (e - i)
@@ -292,18 +294,25 @@ def nearer_than(x: np.ndarray, y: np.ndarray, limit: float) -> np.ndarray:
 
 
 def _solve(
-    design: np.ndarray, target: np.ndarray, expected_turn: float, weights: tuple[float, float]
+    design: np.ndarray,
+    target: np.ndarray,
+    expected_turn: float,
+    weights: tuple[float, float],
+    normal: list[list[float]] | None = None,
 ) -> tuple[float, ...]:
     """Least squares with the prior's pseudo-observations (normal equations, 3 x 3).
 
     The prior keeps the matrix positive definite; Cramer's rule on nine floats is cheaper
     than a LAPACK call at this size. The prior's weights are diagonal and only its turn
     is non-zero: they are added as floats (``+ 0.0`` where the weight matrix adds a zero,
-    which turns a -0.0 into 0.0 as the matrix sum did), not as 3 x 3 arrays.
+    which turns a -0.0 into 0.0 as the matrix sum did), not as 3 x 3 arrays. ``normal``:
+    ``design^T design`` as nested lists, where the caller has it already.
     """
     w_turn, w_shift = weights
     # dot: the same BLAS calls as @ (syrk, gemv), without the matmul ufunc's layers
-    (a, b, c), (_, e, f), (_, _, i) = design.T.dot(design).tolist()
+    if normal is None:
+        normal = design.T.dot(design).tolist()
+    (a, b, c), (_, e, f), (_, _, i) = normal
     a, b, c, e, f, i = a + w_turn, b + 0.0, c + 0.0, e + w_shift, f + 0.0, i + w_shift
     r0, r1, r2 = design.T.dot(target).tolist()
     r0, r1, r2 = r0 + (w_turn * expected_turn + 0.0), r1 + 0.0, r2 + 0.0

@@ -445,12 +445,9 @@ def test_the_improved_filter_scores_a_jittered_angle_min_as_the_file(labelled_fi
     assert main(["eval-labels", str(labelled_file), "--angle-jitter", "-1"]) == 2
 
 
-def test_the_imu_nose_up_option_negates_the_pitch_the_filters_get(tmp_path):
-    arrays, _ = labelled_arrays()
-    arrays["pitch_rad"] = np.linspace(-0.1, 0.1, len(arrays["ranges"]))
-    arrays["roll_rad"] = np.zeros(len(arrays["ranges"]))
-    path = tmp_path / "imu.npz"
-    np.savez(path, **arrays)
+def pitches_seen(path, **options):
+    """The IMU pitch a filter gets, scan by scan, from ``evaluate_labelled(path, ...,
+    inputs=["imu"], **options)``."""
     seen = []
 
     class PitchSpy(Spy):
@@ -462,10 +459,19 @@ def test_the_imu_nose_up_option_negates_the_pitch_the_filters_get(tmp_path):
         FilterEntry("pitch_spy", PitchSpy, OracleParams, "", needs=("pitch_rad",))
     )
     try:
-        evaluate_labelled(path, entry, inputs=["imu"], imu_nose_up=True)
+        evaluate_labelled(path, entry, inputs=["imu"], **options)
     finally:
         unregister_filter("pitch_spy")
-    np.testing.assert_allclose(seen, -arrays["pitch_rad"])
+    return seen
+
+
+def test_the_imu_nose_up_option_negates_the_pitch_the_filters_get(tmp_path):
+    arrays, _ = labelled_arrays()
+    arrays["pitch_rad"] = np.linspace(-0.1, 0.1, len(arrays["ranges"]))
+    arrays["roll_rad"] = np.zeros(len(arrays["ranges"]))
+    path = tmp_path / "imu.npz"
+    np.savez(path, **arrays)
+    np.testing.assert_allclose(pitches_seen(path, imu_nose_up=True), -arrays["pitch_rad"])
     out = tmp_path / "report"
     assert (
         main(["eval-labels", str(path), "--inputs", "imu", "--imu-nose-up", "--out", str(out)]) == 0
@@ -485,21 +491,7 @@ def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
     np.savez(path, **arrays)
     per_scan = {k for k, v in arrays.items() if np.ndim(v) >= 1 and len(v) == count}
     np.savez(thinned_path, **{k: v[::3] if k in per_scan else v for k, v in arrays.items()})
-    seen = []
-
-    class PitchSpy(Spy):
-        def process(self, scan, **inputs):
-            seen.append(inputs["pitch_rad"])
-            return super().process(scan)
-
-    entry = register_filter(
-        FilterEntry("pitch_spy", PitchSpy, OracleParams, "", needs=("pitch_rad",))
-    )
-    try:
-        evaluate_labelled(path, entry, inputs=["imu"], every=3)
-    finally:
-        unregister_filter("pitch_spy")
-    np.testing.assert_allclose(seen, arrays["pitch_rad"][::3])
+    np.testing.assert_allclose(pitches_seen(path, every=3), arrays["pitch_rad"][::3])
     improved = filter_entry("improved")
     every = evaluate_labelled(path, improved, every=3)
     thinned = evaluate_labelled(thinned_path, improved)

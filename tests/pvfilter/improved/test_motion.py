@@ -102,11 +102,11 @@ def test_the_weak_direction_takes_the_turn_out():
     # turn moves that piece along y as a shift does, so y rests on no row once the turn
     # is free (its translation alone would seem measured by 100 rows either way)
     design = np.array([[0.0, 1.0, 0.0]] * 100 + [[3.0, 0.0, 1.0]] * 100)
-    rows, axis, strong = weak_direction(design)
+    rows, axis, strong = weak_direction(design.T.dot(design).tolist())
     assert rows == pytest.approx(0.0, abs=1e-9) and strong == pytest.approx(100.0)
     assert abs(math.cos(axis)) < 1e-9  # along y
     design[100:, 0] = 0.0  # the piece at the sensor's side: the turn does not move it
-    rows, _, strong = weak_direction(design)
+    rows, _, strong = weak_direction(design.T.dot(design).tolist())
     assert rows == pytest.approx(100.0) and strong == pytest.approx(100.0)
 
 
