@@ -125,8 +125,9 @@ def build_parser() -> argparse.ArgumentParser:
         default=1,
         metavar="N",
         help="keep every Nth beam of each scan, from beam 0, with its labels, after --every: "
-        "a scanner with an N times coarser spacing over the same sweep (default: 1, every "
-        "beam)",
+        "a scanner with an N times coarser spacing over the same sweep (on a full turn, "
+        "an N that divides the beam count keeps the spacing across the seam) (default: 1, "
+        "every beam)",
     )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser

@@ -267,7 +267,8 @@ def with_beam_stride(
     """``scans`` and their ``labels`` (``(scans, beams)``) with every ``stride``-th beam
     kept, from beam 0: the scans a scanner with that many times coarser a spacing would
     write over the same sweep (``angle_increment`` and ``time_increment`` times
-    ``stride``; intensities kept with their beams)."""
+    ``stride``; intensities kept with their beams). On a full turn a stride that does not
+    divide the beam count leaves a narrower step across the seam."""
 
     def thinned(scan: Scan) -> Scan:
         intensities = None if scan.intensities is None else scan.intensities[::stride]
@@ -392,7 +393,14 @@ def evaluate_labelled(
     labels = scan_labels(arrays, source, len(scans))
     count = len(scans)  # the file's, for its per-scan inputs
     scans, labels = scans[::every], labels[::every]
+    if beam_stride < 1:
+        raise ValueError(f"beam_stride: a number of beams >= 1, got {beam_stride}")
     if beam_stride > 1:
+        if beam_stride * 2 > len(scans[0]):
+            raise ValueError(
+                f"{source}: --beam-stride {beam_stride} leaves fewer than 2 of its "
+                f"{len(scans[0])} beams"
+            )
         scans, labels = with_beam_stride(scans, labels, beam_stride)
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)

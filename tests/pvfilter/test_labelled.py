@@ -538,3 +538,5 @@ def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_pa
     assert json.loads((out / "report.json").read_text())["beam_stride"] == 2
     assert "Every 2nd beam kept" in (out / "report.md").read_text()
     assert main(["eval-labels", str(path), "--beam-stride", "0"]) == 2
+    with pytest.raises(ValueError, match="--beam-stride 400 leaves fewer than 2"):
+        evaluate_labelled(path, improved, beam_stride=400)

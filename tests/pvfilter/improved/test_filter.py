@@ -656,7 +656,7 @@ def test_nan_is_an_invalid_reading_by_default(room):
     # REP-117: a wall ahead that reads NaN for a second (dark glass, a range filter's cut)
     # and then returns, the robot level and standing. Read as no echo, the NaN freed the
     # space in front of the wall, and the wall, back in it, was new: a line across the
-    # heading, 126 beams removed in each of three scans
+    # heading, 126-127 beams removed in each of three scans
     back = 4.0 if room == "closed" else 15.0  # (15 m: beyond range, +inf behind)
     walls = np.array([[[3.0, -2.0], [3.0, 2.0]], [[3.0, 2.0], [-back, 2.0]],
                       [[3.0, -2.0], [-back, -2.0]], [[-back, -2.0], [-back, 2.0]]])  # fmt: skip
