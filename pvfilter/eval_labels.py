@@ -15,7 +15,8 @@ VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (ho
 write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
 turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention);
-``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often).
+``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often);
+``--beam-stride N`` then every Nth beam (a scanner with a coarser spacing).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -118,6 +119,16 @@ def build_parser() -> argparse.ArgumentParser:
         "often (each scan's own sweep timing kept; the improved filter compares no scans "
         "farther apart than its max_gap_s) (default: 1, every scan)",
     )
+    parser.add_argument(
+        "--beam-stride",
+        type=int,
+        default=1,
+        metavar="N",
+        help="keep every Nth beam of each scan, from beam 0, with its labels, after --every: "
+        "a scanner with an N times coarser spacing over the same sweep (on a full turn, "
+        "an N that divides the beam count keeps the spacing across the seam) (default: 1, "
+        "every beam)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -148,6 +159,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         )
     if args.every < 1:
         raise ValueError(f"--every: a number of scans >= 1, got {args.every}")
+    if args.beam_stride < 1:
+        raise ValueError(f"--beam-stride: a number of beams >= 1, got {args.beam_stride}")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -182,6 +195,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 angle_jitter_beams=args.angle_jitter,
                 imu_nose_up=args.imu_nose_up,
                 every=args.every,
+                beam_stride=args.beam_stride,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -273,6 +287,7 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "angle_jitter_beams": args.angle_jitter,
         "imu_nose_up": args.imu_nose_up,
         "every": args.every,
+        "beam_stride": args.beam_stride,
         "target_auc": args.target,
         "summary": summaries,
     }
@@ -300,6 +315,8 @@ def _scanner_changes(args: argparse.Namespace) -> str:
     changes = ""
     if args.every > 1:  # first: the other changes are drawn on the scans kept
         changes += f" Every {_ordinal(args.every)} scan kept, from the first."
+    if args.beam_stride > 1:
+        changes += f" Every {_ordinal(args.beam_stride)} beam kept, from beam 0."
     if args.range_noise > 0.0:
         changes += (
             f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "

@@ -261,6 +261,28 @@ def _drawn_per_scan(scans: Sequence[Scan], seed: int, change) -> list[Scan]:
     return changed
 
 
+def with_beam_stride(
+    scans: Sequence[Scan], labels: np.ndarray, stride: int
+) -> tuple[list[Scan], np.ndarray]:
+    """``scans`` and their ``labels`` (``(scans, beams)``) with every ``stride``-th beam
+    kept, from beam 0: the scans a scanner with that many times coarser a spacing would
+    write over the same sweep (``angle_increment`` and ``time_increment`` times
+    ``stride``; intensities kept with their beams). On a full turn a stride that does not
+    divide the beam count leaves a narrower step across the seam."""
+
+    def thinned(scan: Scan) -> Scan:
+        intensities = None if scan.intensities is None else scan.intensities[::stride]
+        return dataclasses.replace(
+            scan,
+            ranges=scan.ranges[::stride],
+            angle_increment=scan.angle_increment * stride,
+            time_increment=scan.time_increment * stride,
+            intensities=intensities,
+        )
+
+    return [thinned(scan) for scan in scans], np.asarray(labels)[:, ::stride]
+
+
 def with_angle_jitter(scans: Sequence[Scan], beams: float) -> list[Scan]:
     """``scans`` with each ``angle_min`` moved by a uniform draw within ``beams`` / 2 of
     a beam either way, from ``JITTER_SEED`` in scan order, the ranges kept: as drivers
@@ -319,6 +341,7 @@ def evaluate_labelled(
     angle_jitter_beams: float = 0.0,
     imu_nose_up: bool = False,
     every: int = 1,
+    beam_stride: int = 1,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -349,6 +372,9 @@ def evaluate_labelled(
             (the other convention) would feed it.
         every: every this many scans is kept, from the first, with its labels and inputs
             (1: all): a thinned log, or a scanner that scans that many times less often.
+        beam_stride: every this many beams is kept, from beam 0, with its labels, after
+            ``every`` (1: all): a scanner with that many times coarser a spacing
+            (:func:`with_beam_stride`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -367,6 +393,15 @@ def evaluate_labelled(
     labels = scan_labels(arrays, source, len(scans))
     count = len(scans)  # the file's, for its per-scan inputs
     scans, labels = scans[::every], labels[::every]
+    if beam_stride < 1:
+        raise ValueError(f"beam_stride: a number of beams >= 1, got {beam_stride}")
+    if beam_stride > 1:
+        if beam_stride * 2 > len(scans[0]):
+            raise ValueError(
+                f"{source}: --beam-stride {beam_stride} leaves fewer than 2 of its "
+                f"{len(scans[0])} beams"
+            )
+        scans, labels = with_beam_stride(scans, labels, beam_stride)
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if occluded_reads is not None:

@@ -251,8 +251,11 @@ class ImprovedPitchVariationFilter:
         layout = self._layout
         # beams that returned nothing (bridged in lines, free space in the level view):
         # a clamping scanner's range_max is no echo too, not a ring of points that turns
-        # and drives with the sensor and pins the scan match to a robot standing still
+        # and drives with the sensor and pins the scan match to a robot standing still;
+        # NaN too where the scanner writes it so (nan_is_no_echo; REP-117: invalid)
         no_echo = scan.no_echo_mask()
+        if self.params.nan_is_no_echo:
+            no_echo |= np.isnan(scan.ranges)
         # returns: scan.valid_mask() but the silent beams (comparisons with NaN never warn)
         valid = (scan.ranges >= scan.range_min) & (scan.ranges <= scan.range_max) & ~no_echo
         ranges = np.where(valid, scan.ranges, np.nan)

@@ -183,7 +183,7 @@ class LevelMemory:
         source = np.empty(layout.count, dtype=np.intp)
         source.fill(-1)  # (np.full costs a Python-level call)
         source[beams.take(order)] = order
-        _fill_single_holes(nearest, source)
+        _fill_single_holes(nearest, source, layout.ring)
         view = LevelView(nearest, *(values.take(source) for values in _carried(state)))
         unseen = indices(source < 0)  # (mostly none: on a full turn, double holes only)
         if unseen.size:  # no point landed there or beside it: the view knows nothing
@@ -393,22 +393,36 @@ def _forget_carried_silence(
     view.ranges[forget] = np.nan
 
 
-def _fill_single_holes(ranges: np.ndarray, source: np.ndarray) -> None:
+def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> None:
     """Give beams that no remembered point landed on their nearer neighbour's range and
     source (in place; ``ranges``: NaN where no point landed, ``source``: per beam, the
-    remembered beam whose values it carries on)."""
+    remembered beam whose values it carries on; ``ring``: the beams cover a full turn, so
+    beam 0 and the last are neighbours).
+
+    The two edges of a scan that covers less than a full turn are no neighbours: a turn
+    that vacated the first beams had filled beam 0 with the view at the other edge of the
+    field of view, 120 to 180 degrees away, and that surface, metres off the wall the beam
+    sees, stayed in the view as the turn carried it on (a 240-degree scanner turning in
+    place: the wall at the edge 1 m in front of it, new, removed at score 1).
+    """
     hole = indices(np.isnan(ranges))
-    if hole.size == 0 or hole.size == len(ranges):
+    n = len(ranges)
+    if hole.size == 0 or hole.size == n:
         return
     # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
     # (gathers by take: cheaper than indexing with arrays this small)
     left, right = hole - 1, hole + 1
-    if right[-1] == len(ranges):  # holes are ascending: only the last can be beam n - 1
+    if right[-1] == n:  # holes are ascending: only the last can be beam n - 1
         right[-1] = 0
     on_left, on_right = ranges.take(left), ranges.take(right)
+    if not ring:  # the edges of the field of view: no neighbour beyond them
+        if hole[0] == 0:
+            on_left[0] = np.nan
+        if hole[-1] == n - 1:
+            on_right[-1] = np.nan
     take_left = ~(np.isnan(on_left) | (on_right < on_left))
     neighbour = np.where(take_left, left, right)
-    value = ranges.take(neighbour)
+    value = np.where(take_left, on_left, on_right)
     fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
         hole, neighbour, value = hole.take(fill), neighbour.take(fill), value.take(fill)

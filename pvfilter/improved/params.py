@@ -91,6 +91,13 @@ class ImprovedParams:
             let the lean gates (``max_roll_deg``) and the segmentation
             (``line_angle_deg``) allow what it measures, where that is more
             (:mod:`pvfilter.improved.roll`).
+        nan_is_no_echo: the scanner writes ``NaN`` for a beam that returned nothing, as
+            some drivers and the converters of many public logs do (Hokuyo logs: a fifth
+            to over half of their beams ``NaN``, never ``+inf``): read it as no echo, like
+            ``+inf``. Off, ``NaN`` is an invalid reading, as REP-117 has it: it tells
+            nothing of the space along the beam (a range filter's cut, a dark surface),
+            and taken for free space, every wall that read ``NaN`` for a while is new
+            when it returns. The scans cannot tell the two apart.
         max_yaw_rate_rad_s: fastest turn the ego-motion search considers, rad/s.
         association_m: beam pairs farther apart than this take no part in the fit, m.
         odom_slip: share of the odometry's step the wheels may be off by (slip on hard
@@ -150,6 +157,7 @@ class ImprovedParams:
     ego_motion: bool = True
     reanchor_view: bool = True
     learn_roll: bool = True
+    nan_is_no_echo: bool = False
     max_yaw_rate_rad_s: float = 2.5  # rad/s
     association_m: float = 0.25  # m
     odom_slip: float = 0.15  # 1
@@ -211,7 +219,8 @@ class ImprovedParams:
         check_integer("min_points", self.min_points, 1)
         check_integer("extend_beams", self.extend_beams, 0)
         check_integer("down_side_min_new", self.down_side_min_new, 1)
-        for name in ("hold_behind_lines", "ego_motion", "reanchor_view", "learn_roll", "spread"):
+        flags = ("hold_behind_lines", "ego_motion", "reanchor_view", "learn_roll", "spread")
+        for name in (*flags, "nan_is_no_echo"):
             check_flag(name, getattr(self, name))
 
     def for_beam_spacing(self, increment_rad: float) -> ImprovedParams:

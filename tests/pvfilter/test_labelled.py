@@ -507,3 +507,36 @@ def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
     assert json.loads((out / "report.json").read_text())["every"] == 3
     assert "Every 3rd scan kept" in (out / "report.md").read_text()
     assert main(["eval-labels", str(path), "--every", "0"]) == 2
+
+
+def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_path):
+    # keeping every 2nd beam is the file of a scanner with twice the spacing over the same
+    # sweep: the beams kept, their labels, the increments doubled
+    arrays, _ = labelled_arrays()
+    arrays["time_increment"] = np.float64(0.1 / arrays["ranges"].shape[1])
+    path, coarse_path = tmp_path / "full.npz", tmp_path / "coarse.npz"
+    np.savez(path, **arrays)
+    coarse = dict(arrays, ranges=arrays["ranges"][:, ::2], labels=arrays["labels"][:, ::2])
+    coarse["angle_increment"] = arrays["angle_increment"] * 2
+    coarse["time_increment"] = arrays["time_increment"] * 2
+    np.savez(coarse_path, **coarse)
+    improved = filter_entry("improved")
+    strided = evaluate_labelled(path, improved, beam_stride=2)
+    written = evaluate_labelled(coarse_path, improved)
+    assert strided.beams == written.beams and strided.scans == written.scans
+    assert (strided.tp, strided.fp, strided.positives) == (
+        written.tp,
+        written.fp,
+        written.positives,
+    )
+    assert strided.positives < evaluate_labelled(path, improved).positives
+    # after --every: the scans kept, then their beams
+    both = evaluate_labelled(path, improved, every=3, beam_stride=2)
+    assert both.scans == len(range(0, len(arrays["ranges"]), 3))
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(path), "--beam-stride", "2", "--out", str(out)]) == 0
+    assert json.loads((out / "report.json").read_text())["beam_stride"] == 2
+    assert "Every 2nd beam kept" in (out / "report.md").read_text()
+    assert main(["eval-labels", str(path), "--beam-stride", "0"]) == 2
+    with pytest.raises(ValueError, match="--beam-stride 400 leaves fewer than 2"):
+        evaluate_labelled(path, improved, beam_stride=400)

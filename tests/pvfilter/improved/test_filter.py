@@ -623,13 +623,15 @@ def test_no_echo_written_as_range_max_or_zero_is_no_echo(no_echo, dtype):
     assert np.any(runs["inf"])  # the floor line was found
 
 
-@pytest.mark.parametrize("no_echo", [np.inf, 0.0, "range_max"])
+@pytest.mark.parametrize("no_echo", [np.inf, 0.0, "range_max", np.nan])
 def test_floor_lines_in_front_of_open_space_are_found_however_no_echo_is_written(no_echo):
     # driving at walls 15 m ahead with a 12 m scanner, an 8 degree pitch event: the floor
     # lines stand in front of space the scans saw free. Written as 0.0 and read as
-    # invalid, the beams told nothing of it, and 30 % of the floor beams were kept
+    # invalid, the beams told nothing of it, and 30 % of the floor beams were kept; so
+    # with NaN unless the scanner is declared to write it for no echo
     hall = room_segments(15.0, 4.0, 6.0, 6.0)
-    pvf, hits, floor_beams, false_alarms = ImprovedPitchVariationFilter(), 0, 0, 0
+    params = ImprovedParams(nan_is_no_echo=no_echo != no_echo)  # (NaN only)
+    pvf, hits, floor_beams, false_alarms = ImprovedPitchVariationFilter(params), 0, 0, 0
     for k in range(50):
         phase = (k - 25) / 7
         pitch = math.radians(8.0) * math.sin(math.pi * phase) if 0 <= phase <= 1 else 0.0
@@ -647,6 +649,31 @@ def test_floor_lines_in_front_of_open_space_are_found_however_no_echo_is_written
         false_alarms += np.count_nonzero(result.removed & ~on_floor)
     assert floor_beams > 1000
     assert hits / floor_beams > 0.95 and false_alarms < 0.01 * floor_beams
+
+
+@pytest.mark.parametrize("room", ["closed", "open behind"])
+def test_nan_is_an_invalid_reading_by_default(room):
+    # REP-117: a wall ahead that reads NaN for a second (dark glass, a range filter's cut)
+    # and then returns, the robot level and standing. Read as no echo, the NaN freed the
+    # space in front of the wall, and the wall, back in it, was new: a line across the
+    # heading, 126-127 beams removed in each of three scans
+    back = 4.0 if room == "closed" else 15.0  # (15 m: beyond range, +inf behind)
+    walls = np.array([[[3.0, -2.0], [3.0, 2.0]], [[3.0, 2.0], [-back, 2.0]],
+                      [[3.0, -2.0], [-back, -2.0]], [[-back, -2.0], [-back, 2.0]]])  # fmt: skip
+    runs = {}
+    for declared in (False, True):
+        pvf, runs[declared] = (
+            ImprovedPitchVariationFilter(ImprovedParams(nan_is_no_echo=declared)),
+            0,
+        )
+        for k in range(30):
+            scan = segment_scan(walls, stamp=0.1 * k, noise_m=0.01,
+                                rng=np.random.default_rng(k), blocked=BLOCKED_SECTOR)  # fmt: skip
+            ahead = np.abs(scan.angles()) < math.radians(30.0)
+            dark = scan.with_ranges(np.where(ahead & (k < 10), np.nan, scan.ranges))
+            runs[declared] += np.count_nonzero(pvf.process(dark).removed)
+    assert runs[False] == 0
+    assert runs[True] > 100  # declared no echo, the NaN was free space: what the flag reads
 
 
 @pytest.mark.parametrize("too_close", [0.0, np.inf, -np.inf])

@@ -8,8 +8,10 @@ import numpy as np
 
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion
 from pvfilter.improved.memory import LevelView, nearest_first
+from pvfilter.scan import Scan
+from pvfilter.synthetic import ray_cast, room_segments
 
-from .conftest import room_scan
+from .conftest import room_scan, to_sensor
 
 PARAMS = ImprovedParams()
 
@@ -392,3 +394,24 @@ def test_a_dropout_beside_a_beam_the_scanner_could_not_measure_frees_nothing():
     assert np.isnan(memory.state.ranges[body[len(body) // 2]])
     # the same dropout beside returns: as before (beside a surface, a dropout of it)
     assert not np.isposinf(memory.state.ranges).any()
+
+
+def test_the_edges_of_a_field_of_view_short_of_a_full_turn_are_no_neighbours():
+    # a 240 degree scanner, 1 degree beams, turning 5 degrees in place: the beams the turn
+    # vacates at one edge know nothing. Filled from beam 0's ring neighbour, the other
+    # edge 120 degrees away, the first beam had held a wall metres off the one it sees
+    room = room_segments(3.0, 2.5, 1.5, 4.0)
+    increment = math.radians(1.0)
+
+    def scan_at(yaw_rad):
+        angles = -math.radians(120.0) + increment * np.arange(241)
+        ranges = ray_cast(to_sensor(room, (0.0, 0.0, yaw_rad)), angles)
+        return Scan(ranges=ranges, angle_min=-math.radians(120.0), angle_increment=increment,
+                    range_min=0.05, range_max=12.0)  # fmt: skip
+
+    for turn_deg in (5.0, -5.0):
+        before, after = scan_at(0.0), scan_at(math.radians(turn_deg))
+        view = view_of(remembered(before), before, Motion(math.radians(-turn_deg)))
+        known = np.isfinite(view.ranges)
+        assert 200 < np.count_nonzero(known) < 241
+        np.testing.assert_allclose(view.ranges[known], after.ranges[known], atol=0.05)
