@@ -91,6 +91,9 @@ class LevelView:
         dropped_m: how far in front of the view stood the surface it gave up when space
             seen free beyond it joined, m (NaN: none).
         dropped_s: s since it gave that surface up.
+        free_m: per free beam (``ranges`` ``+inf``), how far the space along it is known
+            free, m: ``range_max`` where a level scan last saw no echo there, less as the
+            sensor comes closer (NaN elsewhere; None: ``range_max`` on every free beam).
     """
 
     ranges: np.ndarray
@@ -99,6 +102,14 @@ class LevelView:
     farther_s: np.ndarray
     dropped_m: np.ndarray
     dropped_s: np.ndarray
+    free_m: np.ndarray | None = None
+
+    def known_free_m(self, range_max: float) -> np.ndarray:
+        """Per beam, where the view lies for new returns, m: its surface, or on a free
+        beam as far as the space is known free (NaN unknown)."""
+        if self.free_m is None:
+            return np.where(self.ranges == np.inf, range_max, self.ranges)
+        return np.where(self.ranges == np.inf, np.fmin(self.free_m, range_max), self.ranges)
 
     def surfaces_back(self, ranges: np.ndarray, params: ImprovedParams) -> np.ndarray | None:
         """Per beam: the return lies where a surface the view gave up stood, within the
@@ -162,9 +173,10 @@ class LevelMemory:
         no sight of free space (see the module docstring: a sector the body blocks).
         """
         state = self.state
-        # free space, and an unknown beam too (fmin ignores NaN), is a point at range_max:
-        # every beam has a point to move (range_max is finite), so no beam is left out
-        remembered = np.fmin(state.ranges, range_max)
+        # free space is a point where it is known free to, an unknown beam (fmin ignores
+        # NaN) one at range_max: every beam has a point to move (range_max is finite), so
+        # no beam is left out
+        remembered = np.fmin(state.known_free_m(range_max), range_max)
         x, y = move_xy(
             remembered * layout.cos,
             remembered * layout.sin,
@@ -194,8 +206,16 @@ class LevelMemory:
         # it would put every wall coming into view in front of it; a beam no point landed
         # on, source -1, takes the last beam's here, and its infinite age makes it
         # unknown just below)
-        view.ranges[state.ranges.take(source) == np.inf] = np.inf
+        carried_free = state.ranges.take(source) == np.inf
+        # free space stays free, known as far as the moved point that bounds it lies (the
+        # sensor that came 0.2 m closer knows the space free 0.2 m less far: a wall that
+        # comes into range there stands beyond it, and is not new)
+        free_m = np.where(carried_free, view.ranges, np.nan)
+        if unseen.size:
+            free_m[unseen] = np.nan
+        view.ranges[carried_free] = np.inf
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf
+        object.__setattr__(view, "free_m", np.where(view.ranges == np.inf, free_m, np.nan))
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
         if no_echo is not None and returned is not None:
             _forget_carried_silence(view, state.ranges, source, no_echo, returned)
@@ -214,6 +234,7 @@ class LevelMemory:
         time_increment: float = 0.0,
         across: np.ndarray | None = None,
         back: np.ndarray | None = None,
+        range_max: float = math.inf,
     ) -> None:
         """Take a scan into the memory.
 
@@ -232,6 +253,7 @@ class LevelMemory:
                 long enough to be a floor line (None: none does).
             back: bool per beam: a surface the view gave up is back there, as
                 :meth:`LevelView.surfaces_back` finds for this scan (None: nowhere).
+            range_max: the scan's range limit, m: how far its silent beams see free.
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
@@ -244,6 +266,14 @@ class LevelMemory:
             self.state = LevelView.seen(level_ranges, seen)
             return
         current = view.ranges.copy()
+        free_m = view.known_free_m(range_max)  # (where it is free: else its surface or NaN)
+        # a return beyond where a free beam is known free stands where the view knew
+        # nothing: not in front of it (a wall coming into range), and a level scan takes
+        # it into the view at once
+        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
+        unbounded = (current == np.inf) & ~(ranges < free_m - margin)  # (NaN: True)
+        past_free = unbounded & valid
+        current[past_free] = np.nan  # not in front, nor beyond: as if unknown, for now
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
         travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
@@ -270,11 +300,13 @@ class LevelMemory:
         if settled.size:
             ahead[settled] = 0.0
         if not level:  # a tilted plane: the view only moves, and its clock stands still
+            current[past_free] = np.inf  # (the tilted plane's return teaches nothing)
             if settled.size:
                 current[settled] = ranges.take(settled)
-            self.state = LevelView(current, view.ages, ahead, view.farther_s, dropped_m, dropped_s)
+            self.state = LevelView(
+                current, view.ages, ahead, view.farther_s, dropped_m, dropped_s, view.free_m
+            )
             return
-        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = ranges > current + margin
         silent = no_return & (current != np.inf)
         lost = None
@@ -323,7 +355,10 @@ class LevelMemory:
         if lost is not None:
             confirmed &= ~lost
         ages[confirmed] = 0.0
-        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
+        # free where the view is free; as far as range_max where this scan saw no echo
+        free_m = np.where(current == np.inf, free_m, np.nan)
+        free_m[no_return & (current == np.inf)] = range_max
+        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s, free_m)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
