@@ -17,7 +17,8 @@ scan's ``angle_min`` within half that many beams either way (drivers that take i
 turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention);
 ``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often);
 ``--beam-stride N`` then every Nth beam (a scanner with a coarser spacing); ``--range-max M``
-then reads every return beyond M metres as no echo (a scanner that reaches less far).
+reads every return beyond M metres as no echo after the noise (a scanner that reaches
+less far).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -136,7 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         metavar="M",
         help="read every return beyond M metres as no echo, and M as range_max, after "
-        "--beam-stride: a scanner that reaches less far (default: the files' range_max)",
+        "--range-noise: a scanner that reaches less far (default: the files' range_max)",
     )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
@@ -330,14 +331,14 @@ def _scanner_changes(args: argparse.Namespace) -> str:
         changes += f" Every {_ordinal(args.every)} scan kept, from the first."
     if args.beam_stride > 1:
         changes += f" Every {_ordinal(args.beam_stride)} beam kept, from beam 0."
-    if args.range_max is not None:
-        reach = f"{args.range_max:g} m"
-        changes += f" Returns beyond {reach} read no echo (range_max {reach})."
     if args.range_noise > 0.0:
         changes += (
             f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "
             "every run)."
         )
+    if args.range_max is not None:
+        reach = f"{args.range_max:g} m"
+        changes += f" Returns beyond {reach} read no echo (range_max {reach})."
     if args.occluded_reads is not None:
         changes += f" Every OCCLUDED beam reads {args.occluded_reads}."
     if args.dropout > 0.0:

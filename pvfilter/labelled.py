@@ -397,9 +397,9 @@ def evaluate_labelled(
         beam_stride: every this many beams is kept, from beam 0, with its labels, after
             ``every`` (1: all): a scanner with that many times coarser a spacing
             (:func:`with_beam_stride`).
-        range_max_m: every return beyond this range reads no echo, after ``beam_stride``
-            (None: the file's reach): a scanner that reaches less far
-            (:func:`with_range_max`).
+        range_max_m: every return beyond this range reads no echo, after the range noise
+            (None: the file's reach): a scanner that reaches less far, and measures its
+            noisy ranges against it (:func:`with_range_max`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -427,6 +427,8 @@ def evaluate_labelled(
                 f"{len(scans[0])} beams"
             )
         scans, labels = with_beam_stride(scans, labels, beam_stride)
+    if range_noise_m > 0.0:
+        scans = with_range_noise(scans, range_noise_m)
     if range_max_m is not None:
         low, high = max(s.range_min for s in scans), min(s.range_max for s in scans)
         if not low < range_max_m <= high:
@@ -434,8 +436,6 @@ def evaluate_labelled(
                 f"{source}: --range-max {range_max_m:g}: its scans reach ({low:g}, {high:g}] m"
             )
         scans = with_range_max(scans, range_max_m)
-    if range_noise_m > 0.0:
-        scans = with_range_noise(scans, range_noise_m)
     if occluded_reads is not None:
         scans = with_occluded_reads(scans, labels, occluded_reads)
     if dropout_share > 0.0:
