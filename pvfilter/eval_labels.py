@@ -16,7 +16,9 @@ write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` 
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
 turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other convention);
 ``--every N`` keeps every Nth scan first (a thinned log, a scanner that scans less often);
-``--beam-stride N`` then every Nth beam (a scanner with a coarser spacing).
+``--beam-stride N`` then every Nth beam (a scanner with a coarser spacing); ``--range-max M``
+reads every return beyond M metres as no echo after the noise (a scanner that reaches
+less far).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
 ``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
@@ -129,6 +131,14 @@ def build_parser() -> argparse.ArgumentParser:
         "an N that divides the beam count keeps the spacing across the seam) (default: 1, "
         "every beam)",
     )
+    parser.add_argument(
+        "--range-max",
+        type=float,
+        default=None,
+        metavar="M",
+        help="read every return beyond M metres as no echo, and M as range_max, after "
+        "--range-noise: a scanner that reaches less far (default: the files' range_max)",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -159,6 +169,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         )
     if args.every < 1:
         raise ValueError(f"--every: a number of scans >= 1, got {args.every}")
+    if args.range_max is not None and not args.range_max > 0.0:
+        raise ValueError(f"--range-max: a range > 0 m, got {args.range_max}")
     if args.beam_stride < 1:
         raise ValueError(f"--beam-stride: a number of beams >= 1, got {args.beam_stride}")
     entry, params, fields = chosen_entry(args)
@@ -196,6 +208,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 imu_nose_up=args.imu_nose_up,
                 every=args.every,
                 beam_stride=args.beam_stride,
+                range_max_m=args.range_max,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -288,6 +301,7 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "imu_nose_up": args.imu_nose_up,
         "every": args.every,
         "beam_stride": args.beam_stride,
+        "range_max_m": args.range_max,
         "target_auc": args.target,
         "summary": summaries,
     }
@@ -322,6 +336,9 @@ def _scanner_changes(args: argparse.Namespace) -> str:
             f" Range noise added: {args.range_noise * 100:g} cm (Gaussian, the same draws "
             "every run)."
         )
+    if args.range_max is not None:
+        reach = f"{args.range_max:g} m"
+        changes += f" Returns beyond {reach} read no echo (range_max {reach})."
     if args.occluded_reads is not None:
         changes += f" Every OCCLUDED beam reads {args.occluded_reads}."
     if args.dropout > 0.0:

@@ -261,6 +261,27 @@ def _drawn_per_scan(scans: Sequence[Scan], seed: int, change) -> list[Scan]:
     return changed
 
 
+def with_range_max(scans: Sequence[Scan], range_max_m: float) -> list[Scan]:
+    """``scans`` as a scanner that reaches ``range_max_m`` writes them: every return
+    beyond it is no echo (``+inf``), and ``range_max`` is ``range_max_m``.
+
+    Raises:
+        ValueError: where ``range_max_m`` is not within a scan's own
+            ``(range_min, range_max]``.
+    """
+    changed = []
+    for scan in scans:
+        if not scan.range_min < range_max_m <= scan.range_max:
+            raise ValueError(
+                f"range_max: within the scans' ({scan.range_min:g}, {scan.range_max:g}] m, "
+                f"got {range_max_m:g}"
+            )
+        beyond = scan.ranges > range_max_m  # (NaN compares False; +inf stays +inf)
+        ranges = np.where(beyond, np.inf, scan.ranges)
+        changed.append(dataclasses.replace(scan, ranges=ranges, range_max=range_max_m))
+    return changed
+
+
 def with_beam_stride(
     scans: Sequence[Scan], labels: np.ndarray, stride: int
 ) -> tuple[list[Scan], np.ndarray]:
@@ -342,6 +363,7 @@ def evaluate_labelled(
     imu_nose_up: bool = False,
     every: int = 1,
     beam_stride: int = 1,
+    range_max_m: float | None = None,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -375,6 +397,9 @@ def evaluate_labelled(
         beam_stride: every this many beams is kept, from beam 0, with its labels, after
             ``every`` (1: all): a scanner with that many times coarser a spacing
             (:func:`with_beam_stride`).
+        range_max_m: every return beyond this range reads no echo, after the range noise
+            (None: the file's reach): a scanner that reaches less far, and measures its
+            noisy ranges against it (:func:`with_range_max`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -404,6 +429,13 @@ def evaluate_labelled(
         scans, labels = with_beam_stride(scans, labels, beam_stride)
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
+    if range_max_m is not None:
+        low, high = max(s.range_min for s in scans), min(s.range_max for s in scans)
+        if not low < range_max_m <= high:
+            raise ValueError(
+                f"{source}: --range-max {range_max_m:g}: its scans reach ({low:g}, {high:g}] m"
+            )
+        scans = with_range_max(scans, range_max_m)
     if occluded_reads is not None:
         scans = with_occluded_reads(scans, labels, occluded_reads)
     if dropout_share > 0.0:

@@ -53,7 +53,9 @@ class LineDetection:
             along it, m: the remembered level scans moved into this scan's frame. NaN
             where the view is unknown (everywhere when ``new_sequence``), ``+inf`` where it
             saw nothing within ``range_max``. A return nearer than this by more than
-            ``free_margin_m + free_margin_rel * range`` is new.
+            ``free_margin_m + free_margin_rel * range`` is new; where the view is free,
+            nearer than where it is known free (``range_max`` from where the sensor stood
+            when it saw no echo: :meth:`~pvfilter.improved.memory.LevelView.known_free_m`).
         coasted: the scan's motion is the prior's (its match could not be trusted in a
             pitch event): a return was new only by the margin widened by what the robot
             could have driven meanwhile, without odometry.

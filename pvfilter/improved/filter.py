@@ -420,6 +420,7 @@ class ImprovedPitchVariationFilter:
             scan.time_increment,
             self._across(prepared.segments, len(scan)),
             found.back,
+            scan.range_max,
         )
         self._recent.add(scan.stamp, found.level_ranges)
 
@@ -477,7 +478,7 @@ class ImprovedPitchVariationFilter:
             layout, scan.range_max, step, velocity, scan.time_increment, params, *echoes
         )
         self._recent.advance(step)
-        gaps = free_space_gaps(ranges, view.ranges, layout, scan.range_max)
+        gaps = free_space_gaps(ranges, view.known_free_m(), layout, scan.range_max)
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
             margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
             new, through = free_space_evidence(gaps, ranges, margin_m, params.free_margin_rel)
@@ -571,7 +572,7 @@ class ImprovedPitchVariationFilter:
                 layout, scan.range_max, step.then(correction), velocity, scan.time_increment,
                 params, *echoes,
             )  # fmt: skip
-            moved_gaps = free_space_gaps(ranges, moved.ranges, layout, scan.range_max)
+            moved_gaps = free_space_gaps(ranges, moved.known_free_m(), layout, scan.range_max)
             if not explains_view_error(gaps, moved_gaps, margin, directions):
                 return None
             if both_ends and not explains_both_ends(gaps, moved_gaps, margin, layout):

@@ -91,6 +91,9 @@ class LevelView:
         dropped_m: how far in front of the view stood the surface it gave up when space
             seen free beyond it joined, m (NaN: none).
         dropped_s: s since it gave that surface up.
+        free_m: per free beam (``ranges`` ``+inf``), how far the space along it is known
+            free, m: ``range_max`` where a level scan last saw no echo there, less as the
+            sensor comes closer (NaN elsewhere; None: ``range_max`` on every free beam).
     """
 
     ranges: np.ndarray
@@ -99,6 +102,13 @@ class LevelView:
     farther_s: np.ndarray
     dropped_m: np.ndarray
     dropped_s: np.ndarray
+    free_m: np.ndarray | None = None
+
+    def known_free_m(self) -> np.ndarray:
+        """Per beam, where the view lies for new returns, m: its surface, or on a free
+        beam as far as the space is known free (``+inf``: as far as the scan reaches; NaN
+        unknown). ``free_m`` is NaN wherever the beam is not free, so one ``fmin`` picks."""
+        return self.ranges if self.free_m is None else np.fmin(self.ranges, self.free_m)
 
     def surfaces_back(self, ranges: np.ndarray, params: ImprovedParams) -> np.ndarray | None:
         """Per beam: the return lies where a surface the view gave up stood, within the
@@ -162,9 +172,10 @@ class LevelMemory:
         no sight of free space (see the module docstring: a sector the body blocks).
         """
         state = self.state
-        # free space, and an unknown beam too (fmin ignores NaN), is a point at range_max:
-        # every beam has a point to move (range_max is finite), so no beam is left out
-        remembered = np.fmin(state.ranges, range_max)
+        # free space is a point where it is known free to, an unknown beam (fmin ignores
+        # NaN) one at range_max: every beam has a point to move (range_max is finite), so
+        # no beam is left out
+        remembered = np.fmin(state.known_free_m(), range_max)
         x, y = move_xy(
             remembered * layout.cos,
             remembered * layout.sin,
@@ -194,11 +205,21 @@ class LevelMemory:
         # it would put every wall coming into view in front of it; a beam no point landed
         # on, source -1, takes the last beam's here, and its infinite age makes it
         # unknown just below)
-        view.ranges[state.ranges.take(source) == np.inf] = np.inf
+        carried_free = state.ranges.take(source) == np.inf
+        # free space stays free, known as far as the moved point that bounds it lies (the
+        # sensor that came 0.2 m closer knows the space free 0.2 m less far: a wall that
+        # comes into range there stands beyond it, and is not new)
+        free_m = None  # (a closed room: no beam free, nothing to bound)
+        if np.count_nonzero(carried_free):
+            free_m = np.where(carried_free, view.ranges, np.nan)
+            view.ranges[carried_free] = np.inf
         view.ranges[view.ranges >= range_max - 1e-6] = np.inf
         view.ranges[view.ages > params.memory_timeout_s] = np.nan
         if no_echo is not None and returned is not None:
             _forget_carried_silence(view, state.ranges, source, no_echo, returned)
+        if free_m is not None:
+            free_m[view.ranges != np.inf] = np.nan  # (unseen, forgotten: not free)
+            object.__setattr__(view, "free_m", free_m)
         return view
 
     def update(
@@ -214,6 +235,7 @@ class LevelMemory:
         time_increment: float = 0.0,
         across: np.ndarray | None = None,
         back: np.ndarray | None = None,
+        range_max: float = math.inf,
     ) -> None:
         """Take a scan into the memory.
 
@@ -232,6 +254,7 @@ class LevelMemory:
                 long enough to be a floor line (None: none does).
             back: bool per beam: a surface the view gave up is back there, as
                 :meth:`LevelView.surfaces_back` finds for this scan (None: nowhere).
+            range_max: the scan's range limit, m: how far its silent beams see free.
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
@@ -244,6 +267,15 @@ class LevelMemory:
             self.state = LevelView.seen(level_ranges, seen)
             return
         current = view.ranges.copy()
+        # a return beyond where a free beam is known free stands where the view knew
+        # nothing: not in front of it (a wall coming into range), but beyond it, as space
+        # newly seen free is: a level scan takes it once it has stood there for
+        # confirm_free_s (the far end of a floor line as the plane starts to tilt, taken
+        # at once, became a surface that the closer returns of the growing tilt pulled
+        # along, and the line was never new)
+        past_free = _past_free(current, view.free_m, ranges, valid, range_max, params)
+        if past_free.size and hold is not None:  # behind a candidate line it stays as it is
+            past_free = past_free.take(indices(~hold.take(past_free)))
         shrink = params.memory_shrink_mps * dt
         floor = current - shrink if shrink < np.inf else np.full(len(ranges), -np.inf)
         travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
@@ -258,6 +290,8 @@ class LevelMemory:
             dropped_m[back] = np.nan
         np.fmax(floor, -np.inf, out=floor)  # NaN (unknown) becomes -inf
         in_front = ranges < floor  # NaN (invalid) compares False
+        if past_free.size:
+            in_front[past_free] = False
         # in front of the view this long: the clocks are finite and >= 0 (sums of time
         # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
         ahead = view.ahead_s + dt
@@ -270,12 +304,20 @@ class LevelMemory:
         if settled.size:
             ahead[settled] = 0.0
         if not level:  # a tilted plane: the view only moves, and its clock stands still
+            free_m = view.free_m
             if settled.size:
                 current[settled] = ranges.take(settled)
-            self.state = LevelView(current, view.ages, ahead, view.farther_s, dropped_m, dropped_s)
+                if free_m is not None:  # (no longer free there)
+                    free_m = free_m.copy()
+                    free_m[settled] = np.nan
+            self.state = LevelView(
+                current, view.ages, ahead, view.farther_s, dropped_m, dropped_s, free_m
+            )
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = ranges > current + margin
+        if past_free.size:
+            beyond[past_free] = True
         silent = no_return & (current != np.inf)
         lost = None
         if np.count_nonzero(silent):
@@ -323,7 +365,14 @@ class LevelMemory:
         if lost is not None:
             confirmed &= ~lost
         ages[confirmed] = 0.0
-        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s)
+        # free where the view is free; as far as range_max where this scan saw no echo
+        free = current == np.inf
+        free_m = None  # (no beam free: nothing to bound)
+        if np.count_nonzero(free):
+            free_m = np.full(len(current), np.nan) if view.free_m is None else view.free_m.copy()
+            free_m[~free] = np.nan
+            free_m[no_return & free] = range_max
+        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s, free_m)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -391,6 +440,27 @@ def _forget_carried_silence(
     for values, nothing in zip(_carried(view), _NOTHING, strict=True):
         values[forget] = nothing
     view.ranges[forget] = np.nan
+
+
+def _past_free(
+    current: np.ndarray,
+    free_m: np.ndarray | None,
+    ranges: np.ndarray,
+    valid: np.ndarray,
+    range_max: float,
+    params: ImprovedParams,
+) -> np.ndarray:
+    """The beams (indices) the view holds free whose return lies beyond where they are
+    known free, less the free-space margin: as far as ``free_m`` says (``range_max``
+    where it says nothing)."""
+    returned = indices(valid & (current == np.inf))
+    if returned.size == 0:
+        return returned
+    at = ranges.take(returned)
+    bound = np.full(returned.size, range_max) if free_m is None else free_m.take(returned)
+    np.fmin(bound, range_max, out=bound)
+    margin = params.free_margin_m + params.free_margin_rel * at
+    return returned.take(indices(at >= bound - margin))
 
 
 def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> None:

@@ -540,3 +540,24 @@ def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_pa
     assert main(["eval-labels", str(path), "--beam-stride", "0"]) == 2
     with pytest.raises(ValueError, match="--beam-stride 400 leaves fewer than 2"):
         evaluate_labelled(path, improved, beam_stride=400)
+
+
+def test_a_shorter_reach_scores_as_the_file_written_by_a_shorter_range_scanner(tmp_path):
+    # every return beyond 3 m no echo, range_max 3 m: the file a 3 m scanner would write
+    arrays, _ = labelled_arrays()
+    path, short_path = tmp_path / "full.npz", tmp_path / "short.npz"
+    np.savez(path, **arrays)
+    ranges = np.where(arrays["ranges"] > 3.0, np.inf, arrays["ranges"])
+    np.savez(short_path, **dict(arrays, ranges=ranges, range_max=np.float64(3.0)))
+    improved = filter_entry("improved")
+    reach = evaluate_labelled(path, improved, range_max_m=3.0)
+    written = evaluate_labelled(short_path, improved)
+    assert (reach.tp, reach.fp, reach.positives) == (written.tp, written.fp, written.positives)
+    assert reach.beams < evaluate_labelled(path, improved).beams
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(path), "--range-max", "3", "--out", str(out)]) == 0
+    assert json.loads((out / "report.json").read_text())["range_max_m"] == 3.0
+    assert "Returns beyond 3 m read no echo" in (out / "report.md").read_text()
+    assert main(["eval-labels", str(path), "--range-max", "0"]) == 2
+    with pytest.raises(ValueError, match="--range-max 50: its scans reach"):
+        evaluate_labelled(path, improved, range_max_m=50.0)

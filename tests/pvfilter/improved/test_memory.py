@@ -1,5 +1,6 @@
 """The level-view memory: moved with the sensor, taught by level scans only, forgetting."""
 
+import copy
 import dataclasses
 import math
 import warnings
@@ -415,3 +416,35 @@ def test_the_edges_of_a_field_of_view_short_of_a_full_turn_are_no_neighbours():
         known = np.isfinite(view.ranges)
         assert 200 < np.count_nonzero(known) < 241
         np.testing.assert_allclose(view.ranges[known], after.ranges[known], atol=0.05)
+
+
+def test_free_space_is_known_as_far_as_range_max_from_where_it_was_seen():
+    # a silent beam sees free space up to range_max, no farther: 0.3 m closer, the space
+    # ahead is known free to 0.3 m less than range_max, and a return just beyond that (a
+    # wall come into range) stands beyond the view, as space newly seen free does: taken
+    # once it has stood there for confirm_free_s, and not in front of the view meanwhile
+    far, _ = room_scan(noise_m=0.0)
+    silent = far.with_ranges(np.where(np.abs(far.angles()) < 0.3, np.inf, far.ranges))
+    memory = remembered(silent)  # the first silent scan leaves the beams unknown, the next
+    step(memory, silent, params=dataclasses.replace(PARAMS, confirm_free_s=0.0))  # frees them
+    ahead = np.abs(silent.angles()) < math.radians(5.0)
+    memory.update(ranges_of(silent), np.isposinf(silent.ranges), view_of(memory, silent),
+                  0.1, PARAMS, True, range_max=3.5)  # fmt: skip
+    layout, nothing = BeamLayout.of(silent), np.zeros(len(silent), bool)
+    view = memory.view(layout, 3.5, Motion(tx_m=-0.3), STILL, 0.0, PARAMS)
+    assert np.all(view.ranges[ahead] == np.inf)
+    np.testing.assert_allclose(view.known_free_m()[ahead], 3.2, atol=0.01)
+    wall = np.where(ahead, 3.25, np.nan)  # beyond the known free space, within range
+    held = copy.deepcopy(memory)
+    memory.update(wall, nothing, view, 0.1, PARAMS, True, range_max=3.5)
+    assert np.all(memory.state.ranges[ahead] == np.inf)
+    assert np.all(memory.state.ahead_s[ahead] == 0.0)  # not in front of the view
+    for _ in range(3):  # 0.4 s in all: confirmed
+        view = memory.view(layout, 3.5, STILL, STILL, 0.0, PARAMS)
+        memory.update(wall, nothing, view, 0.1, PARAMS, True, range_max=3.5)
+    np.testing.assert_allclose(memory.state.ranges[ahead], 3.25)
+    # but not where it may be a floor line (a candidate line held): the view holds there
+    for _ in range(4):
+        view = held.view(layout, 3.5, STILL, STILL, 0.0, PARAMS)
+        held.update(wall, nothing, view, 0.1, PARAMS, True, hold=ahead, range_max=3.5)
+    assert np.all(held.state.ranges[ahead] == np.inf)
