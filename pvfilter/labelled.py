@@ -266,16 +266,14 @@ def with_range_max(scans: Sequence[Scan], range_max_m: float) -> list[Scan]:
     beyond it is no echo (``+inf``), and ``range_max`` is ``range_max_m``.
 
     Raises:
-        ValueError: where ``range_max_m`` is not within a scan's own
-            ``(range_min, range_max]``.
+        ValueError: where ``range_max_m`` is not within every scan's
+            ``(range_min, range_max]`` (the message names the reach the scans have).
     """
+    low, high = max(s.range_min for s in scans), min(s.range_max for s in scans)
+    if not low < range_max_m <= high:
+        raise ValueError(f"--range-max {range_max_m:g}: its scans reach ({low:g}, {high:g}] m")
     changed = []
     for scan in scans:
-        if not scan.range_min < range_max_m <= scan.range_max:
-            raise ValueError(
-                f"range_max: within the scans' ({scan.range_min:g}, {scan.range_max:g}] m, "
-                f"got {range_max_m:g}"
-            )
         beyond = scan.ranges > range_max_m  # (NaN compares False; +inf stays +inf)
         ranges = np.where(beyond, np.inf, scan.ranges)
         changed.append(dataclasses.replace(scan, ranges=ranges, range_max=range_max_m))
@@ -430,12 +428,10 @@ def evaluate_labelled(
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if range_max_m is not None:
-        low, high = max(s.range_min for s in scans), min(s.range_max for s in scans)
-        if not low < range_max_m <= high:
-            raise ValueError(
-                f"{source}: --range-max {range_max_m:g}: its scans reach ({low:g}, {high:g}] m"
-            )
-        scans = with_range_max(scans, range_max_m)
+        try:
+            scans = with_range_max(scans, range_max_m)
+        except ValueError as error:
+            raise ValueError(f"{source}: {error}") from None
     if occluded_reads is not None:
         scans = with_occluded_reads(scans, labels, occluded_reads)
     if dropout_share > 0.0:

@@ -200,15 +200,13 @@ class LevelMemory:
         if unseen.size:  # no point landed there or beside it: the view knows nothing
             for values, nothing in zip(_carried(view), _NOTHING, strict=True):
                 values[unseen] = nothing
-        # free space stays free: where a beam was carried from a free one (moved, its point
-        # at range_max lands a few centimetres nearer or farther, and as a surface there
-        # it would put every wall coming into view in front of it; a beam no point landed
-        # on, source -1, takes the last beam's here, and its infinite age makes it
-        # unknown just below)
+        # free space stays free where a beam was carried from a free one (as a surface,
+        # the moved point that bounds it would put every wall coming into view in front
+        # of it; a beam no point landed on, source -1, takes the last beam's here, and its
+        # infinite age makes it unknown just below), known free as far as that point lies:
+        # the sensor that came 0.2 m closer knows the space free 0.2 m less far, and a
+        # wall that comes into range there stands beyond it, not new
         carried_free = state.ranges.take(source) == np.inf
-        # free space stays free, known as far as the moved point that bounds it lies (the
-        # sensor that came 0.2 m closer knows the space free 0.2 m less far: a wall that
-        # comes into range there stands beyond it, and is not new)
         free_m = None  # (a closed room: no beam free, nothing to bound)
         if np.count_nonzero(carried_free):
             free_m = np.where(carried_free, view.ranges, np.nan)

@@ -219,8 +219,14 @@ class ImprovedParams:
         check_integer("min_points", self.min_points, 1)
         check_integer("extend_beams", self.extend_beams, 0)
         check_integer("down_side_min_new", self.down_side_min_new, 1)
-        flags = ("hold_behind_lines", "ego_motion", "reanchor_view", "learn_roll", "spread")
-        for name in (*flags, "nan_is_no_echo"):
+        for name in (
+            "hold_behind_lines",
+            "ego_motion",
+            "reanchor_view",
+            "learn_roll",
+            "spread",
+            "nan_is_no_echo",
+        ):
             check_flag(name, getattr(self, name))
 
     def for_beam_spacing(self, increment_rad: float) -> ImprovedParams:

@@ -509,6 +509,20 @@ def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
     assert main(["eval-labels", str(path), "--every", "0"]) == 2
 
 
+def scored_as_written(path, written_path, **options):
+    """The improved filter's reports on ``path`` changed by ``options`` and on the file
+    written so, which count the same hits, false alarms and positives."""
+    improved = filter_entry("improved")
+    changed = evaluate_labelled(path, improved, **options)
+    written = evaluate_labelled(written_path, improved)
+    assert (changed.tp, changed.fp, changed.positives) == (
+        written.tp,
+        written.fp,
+        written.positives,
+    )
+    return changed, written
+
+
 def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_path):
     # keeping every 2nd beam is the file of a scanner with twice the spacing over the same
     # sweep: the beams kept, their labels, the increments doubled
@@ -521,14 +535,8 @@ def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_pa
     coarse["time_increment"] = arrays["time_increment"] * 2
     np.savez(coarse_path, **coarse)
     improved = filter_entry("improved")
-    strided = evaluate_labelled(path, improved, beam_stride=2)
-    written = evaluate_labelled(coarse_path, improved)
+    strided, written = scored_as_written(path, coarse_path, beam_stride=2)
     assert strided.beams == written.beams and strided.scans == written.scans
-    assert (strided.tp, strided.fp, strided.positives) == (
-        written.tp,
-        written.fp,
-        written.positives,
-    )
     assert strided.positives < evaluate_labelled(path, improved).positives
     # after --every: the scans kept, then their beams
     both = evaluate_labelled(path, improved, every=3, beam_stride=2)
@@ -550,9 +558,7 @@ def test_a_shorter_reach_scores_as_the_file_written_by_a_shorter_range_scanner(t
     ranges = np.where(arrays["ranges"] > 3.0, np.inf, arrays["ranges"])
     np.savez(short_path, **dict(arrays, ranges=ranges, range_max=np.float64(3.0)))
     improved = filter_entry("improved")
-    reach = evaluate_labelled(path, improved, range_max_m=3.0)
-    written = evaluate_labelled(short_path, improved)
-    assert (reach.tp, reach.fp, reach.positives) == (written.tp, written.fp, written.positives)
+    reach, _ = scored_as_written(path, short_path, range_max_m=3.0)
     assert reach.beams < evaluate_labelled(path, improved).beams
     out = tmp_path / "report"
     assert main(["eval-labels", str(path), "--range-max", "3", "--out", str(out)]) == 0
