@@ -171,6 +171,35 @@ def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():
     assert not ego.match(layout, points, segments, DT, wrong, True, None).trusted
 
 
+@pytest.mark.parametrize(("dt", "held"), [(0.025, True), (0.1, False)])
+def test_a_line_that_moves_with_the_pitch_cannot_pull_the_drive_faster_than_physics(dt, held):
+    # a corridor whose ends are out of range: only a line across it ahead fixes x, and it
+    # comes 10 cm nearer while the sensor stands (a floor line as the pitch grows). At
+    # 40 Hz no balancing robot's sensor moves 10 cm off its constant velocity in one scan
+    # time: the drive stays within the steady doubt; at 10 Hz the body's swing about the
+    # axle can move it that far, and the match is taken as found
+    corridor = room_segments(20.0, 20.0, 1.0, 1.0)
+
+    def scan_with_line_at(x_m):
+        line = np.array([[[x_m, -1.0], [x_m, 1.0]]])
+        return tilted_scan(walls=np.concatenate((corridor, line)))[0]
+
+    ego = EgoMotion(PARAMS)
+    layout, points, segments = prepared(scan_with_line_at(2.0))
+    first = ego.match(layout, points, segments, dt, ego.prior(dt, None), False, None)
+    ego.commit(points, np.zeros(len(points), bool), first, 0.0, dt, None)
+    layout, points, segments = prepared(scan_with_line_at(1.9))
+    found = ego.match(layout, points, segments, dt, ego.prior(dt, None), False, None)
+    bound = ego.steady_doubt_m(dt) + egomotion.STEP_NOISE_M  # (a fit without noise)
+    assert found.trusted
+    if held:
+        assert bound < 0.05
+        assert found.step.translation_m == pytest.approx(bound, abs=0.002)
+    else:
+        assert bound > 0.1
+        assert found.step.tx_m == pytest.approx(-0.1, abs=0.005)
+
+
 @pytest.mark.parametrize(("turn_noise_deg", "proven"), [(0.0, True), (1.5, False)])
 def test_odometry_proves_itself_by_turning_as_the_scans_do(turn_noise_deg, proven):
     # a two-wheeled robot's odometry turns as the scans do; a skid-steer rover's slides
