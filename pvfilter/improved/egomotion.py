@@ -128,6 +128,8 @@ class EgoMotion:
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
         self.tilt = 0.0  # the previous scan's tilt, rad
+        self.level = False  # the previous scan was level (no floor line, no IMU tilt)
+        self.steady = False  # the velocity was measured between two level scans in a row
 
     def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
         """``pose``, or None where the odometry's step to it from the previous scan's turns
@@ -209,13 +211,13 @@ class EgoMotion:
 
         found = fit(expected, spread)
         since_s = dt + self.coasted_s
-        if not odometry and level_scan and self.coasted_s == 0.0 and found.pairs >= MIN_PAIRS:
-            # after a level scan, whose match measured the drive, and found around the
-            # constant-velocity prior: no farther off it than physics allows. Not within a
-            # pitch event (the prior then rests on tilted scans' matches: in the stress
-            # matrix's strong shoves, drawn towards such a prior, a wall ahead came out new
-            # for four scans), nor around the robot standing or a wide step (there the
-            # prior has proven wrong, or a low scan rate leaves it in doubt)
+        if not odometry and self.steady and self.coasted_s == 0.0 and found.pairs >= MIN_PAIRS:
+            # the velocity measured between two level scans, and the fit found around it:
+            # no farther off it than physics allows. Not where a tilted scan's match set
+            # the velocity (in the stress matrix's strong shoves, drawn towards a shove's
+            # 1.4 m/s read so, a wall ahead came out new for four scans), nor after a
+            # start afresh (nothing has measured it), nor around the robot standing or a
+            # wide step (there the prior has proven wrong, or a low rate leaves it in doubt)
             found = self._within_steady_doubt(found, expected, since_s)
         if found.pairs < MIN_PAIRS and not odometry and expected.translation_m > 0.0:
             # no pairs where the constant-velocity prior put them (a wrong velocity, or a
@@ -269,23 +271,31 @@ class EgoMotion:
         if off <= bound:
             return found
         share = bound / off
+        # the fit did not measure the drive along the pull: that direction is left to the
+        # prior, as a fit with no rows along it would leave it (the view's doubt takes it)
         return dataclasses.replace(
-            found, tx_m=expected.tx_m + share * off_x, ty_m=expected.ty_m + share * off_y
+            found,
+            tx_m=expected.tx_m + share * off_x,
+            ty_m=expected.ty_m + share * off_y,
+            weak_rows=0.0,
+            weak_axis_rad=math.atan2(off_y, off_x) % math.pi,
         )
 
     def steady_doubt_m(self, since_s: float) -> float:
         """How far the sensor may have moved from the constant-velocity prior in
         ``since_s``, m: the axle's hardest braking or speeding up (``prior_doubt_m``),
-        and the body's pitch swinging the sensor about the axle at up to
-        ``max_pitch_rate_rad_s``, either way (against the swing the prior carried on),
-        but never past ``max_tilt_deg`` on either side. A LiDAR 0.24 m above the axle:
-        3.8 cm at 40 Hz, 16.9 cm at 10 Hz."""
+        and the body's pitch swinging the sensor about the axle (at the LiDAR's distance
+        from it) at up to ``max_pitch_rate_rad_s``, either way (against the swing the
+        prior carried on), and never by more than from ``max_tilt_deg`` on one side to
+        the other. A LiDAR 0.24 m above the axle: 3.8 cm at 40 Hz, 16.9 cm at 10 Hz."""
         params = self.params
-        arm_m = max(params.lidar_height_m - params.axle_height_m, 0.0)
-        swing_rad = min(
-            params.max_pitch_rate_rad_s * since_s, math.sin(math.radians(params.max_tilt_deg))
+        since_s = max(since_s, 0.0)
+        arm_m = math.hypot(
+            params.lidar_ahead_m, max(params.lidar_height_m - params.axle_height_m, 0.0)
         )
-        return prior_doubt_m(since_s) + 2.0 * arm_m * swing_rad
+        widest = 2.0 * math.sin(math.radians(params.max_tilt_deg))
+        swing = min(params.max_pitch_rate_rad_s * since_s, widest)
+        return prior_doubt_m(since_s) + 2.0 * arm_m * swing
 
     def _odometry_agrees(self, turn_error: float) -> None:
         """Average in one trusted match's turn error against the odometry, in spreads."""
@@ -312,6 +322,7 @@ class EgoMotion:
                 from here, as the coasted motion already holds the steps up to here.
         """
         self._carry(match.step, tilt_rad, dt, pose)
+        self.level = self.steady = False  # (a coasting scan is taken as tilted)
         return dataclasses.replace(match, trusted=True)
 
     def coasted_tilt(self, tilt_rad: float) -> None:
@@ -335,9 +346,11 @@ class EgoMotion:
         tilt_rad: float,
         dt: float,
         pose: np.ndarray | None,
+        level: bool | None = None,
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
-        beams (new, candidate lines) never take part in a match.
+        beams (new, candidate lines) never take part in a match. ``level``: the scan
+        showed no floor line and no IMU tilt (None: its tilt is 0).
 
         A scan with fewer than ``MIN_REFERENCE_POINTS`` points left once those are out
         (in a hall beyond the scanner's range, a pitched scan can be all floor and
@@ -349,8 +362,12 @@ class EgoMotion:
         reference = every.copy()
         moving = indices(moving)
         reference[moving] = np.nan
+        level = tilt_rad == 0.0 if level is None else level
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
+            # matched against the scan before, level both: the drive is measured
+            self.steady = level and self.level and self.coasted_s == 0.0
+        self.level = level
         left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
         if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
             self._carry(match.step, tilt_rad, dt, pose)

@@ -100,15 +100,16 @@ def test_the_view_does_not_come_closer_behind_a_faint_continuation_of_a_floor_li
     # the faint scan shows too little of the line to count as tilted, so it teaches the
     # level view; the line it shows continues the strong one of the scan before, and the
     # view stays on the wall behind it. Without holding, the view comes closer behind
-    # it, at line_shrink_mps plus the drive, and onto it where it may come as fast as
-    # elsewhere (the robot stands: the drive is none, as the match now reads it)
+    # it, by line_shrink_mps times the scan time plus the drive the match reads (the
+    # standing robot's fit, pulled by the line, held to the steady doubt: 3.5 cm), and
+    # onto it where lines may come as fast as the rest
     pvf, result, scan, _, kept = _nose_up_event(PARAMS, faint_second_scan=True)
     assert kept.size >= 10 and not result.lines.tilted
     held = pvf._memory.state.ranges[kept]
     assert (held > scan.ranges[kept] + 0.1).all()
     loose = dataclasses.replace(PARAMS, hold_behind_lines=False)
     pvf, result, scan, _, kept = _nose_up_event(loose, faint_second_scan=True)
-    assert (pvf._memory.state.ranges[kept] < held - 0.03).all()
+    assert (pvf._memory.state.ranges[kept] < held - PARAMS.line_shrink_mps * 0.1 + 0.005).all()
     fast = dataclasses.replace(loose, line_shrink_mps=PARAMS.memory_shrink_mps)
     pvf, result, scan, _, kept = _nose_up_event(fast, faint_second_scan=True)
     np.testing.assert_allclose(pvf._memory.state.ranges[kept], scan.ranges[kept], atol=0.02)
