@@ -68,6 +68,10 @@ NOISE_RESIDUAL_FACTOR = 2.0  # 1: a level scan's fit whose median residual is at
 MAX_NOISE_RESIDUAL_M = 0.12  # m: ... but never one over this: right fits of a scanner with
 # 5 cm of noise plus 1 % of the range leave 5-6 cm; where range jumps spoil most triples
 # of consecutive beams (clutter, a garbled scan), the "noise" measured is the scene's
+STEP_NOISE_M = 0.01  # m: the least step error a match is allowed beyond the steady doubt
+STEP_RESIDUAL_FACTOR = 2.0  # 1: ... or this many times its median residual (a noisier
+# scanner's fits err more: with 5 cm of range noise, 1 cm cost the simulator's noisy robot
+# 0.027 of AUC)
 ODOM_SIGMAS = 4.0  # a match farther from the odometry than this many spreads is not trusted
 MAX_SPEED_MPS = 3.0  # m/s: faster than a TWSB robot drives; a match that says so is wrong
 MIN_REFERENCE_POINTS = MIN_PAIRS  # a scan with fewer points left to match against
@@ -124,6 +128,8 @@ class EgoMotion:
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
         self.tilt = 0.0  # the previous scan's tilt, rad
+        self.level = False  # the previous scan was level (no floor line, no IMU tilt)
+        self.steady = False  # the velocity was measured between two level scans in a row
 
     def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
         """``pose``, or None where the odometry's step to it from the previous scan's turns
@@ -204,12 +210,20 @@ class EgoMotion:
             )
 
         found = fit(expected, spread)
+        since_s = dt + self.coasted_s
+        if not odometry and self.steady and self.coasted_s == 0.0 and found.pairs >= MIN_PAIRS:
+            # the velocity measured between two level scans, and the fit found around it:
+            # no farther off it than physics allows. Not where a tilted scan's match set
+            # the velocity (in the stress matrix's strong shoves, drawn towards a shove's
+            # 1.4 m/s read so, a wall ahead came out new for four scans), nor after a
+            # start afresh (nothing has measured it), nor around the robot standing or a
+            # wide step (there the prior has proven wrong, or a low rate leaves it in doubt)
+            found = self._within_steady_doubt(found, expected, since_s)
         if found.pairs < MIN_PAIRS and not odometry and expected.translation_m > 0.0:
             # no pairs where the constant-velocity prior put them (a wrong velocity, or a
             # hard stop while coasting): try the robot standing since the reference
             standing = Motion(expected.theta_rad, 0.0, 0.0)
             found = fit(standing, (spread[0], self.params.association_m))
-        since_s = dt + self.coasted_s
         if not odometry and prior_doubt_m(dt) > self.params.association_m:
             # a low scan rate: the drive may lie beyond the pairs' reach; search it
             wide = wide_step(
@@ -245,6 +259,44 @@ class EgoMotion:
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
 
+    def _within_steady_doubt(self, found: Motion, expected: Motion, since_s: float) -> Motion:
+        """``found`` with its drive off the constant-velocity prior by no more than the
+        body can move the sensor in ``since_s`` (:meth:`steady_doubt_m`): a floor line that
+        moves with the pitch pulls the fit along it where the walls that would hold it
+        are hidden, farther than any drive could."""
+        off_x, off_y = found.tx_m - expected.tx_m, found.ty_m - expected.ty_m
+        off = math.hypot(off_x, off_y)
+        noise_m = max(STEP_NOISE_M, STEP_RESIDUAL_FACTOR * found.residual_m)
+        bound = self.steady_doubt_m(since_s) + noise_m
+        if off <= bound:
+            return found
+        share = bound / off
+        # the fit did not measure the drive along the pull: that direction is left to the
+        # prior, as a fit with no rows along it would leave it (the view's doubt takes it)
+        return dataclasses.replace(
+            found,
+            tx_m=expected.tx_m + share * off_x,
+            ty_m=expected.ty_m + share * off_y,
+            weak_rows=0.0,
+            weak_axis_rad=math.atan2(off_y, off_x) % math.pi,
+        )
+
+    def steady_doubt_m(self, since_s: float) -> float:
+        """How far the sensor may have moved from the constant-velocity prior in
+        ``since_s``, m: the axle's hardest braking or speeding up (``prior_doubt_m``),
+        and the body's pitch swinging the sensor about the axle (at the LiDAR's distance
+        from it) at up to ``max_pitch_rate_rad_s``, either way (against the swing the
+        prior carried on), and never by more than from ``max_tilt_deg`` on one side to
+        the other. A LiDAR 0.24 m above the axle: 3.8 cm at 40 Hz, 16.9 cm at 10 Hz."""
+        params = self.params
+        since_s = max(since_s, 0.0)
+        arm_m = math.hypot(
+            params.lidar_ahead_m, max(params.lidar_height_m - params.axle_height_m, 0.0)
+        )
+        widest = 2.0 * math.sin(math.radians(params.max_tilt_deg))
+        swing = min(params.max_pitch_rate_rad_s * since_s, widest)
+        return prior_doubt_m(since_s) + 2.0 * arm_m * swing
+
     def _odometry_agrees(self, turn_error: float) -> None:
         """Average in one trusted match's turn error against the odometry, in spreads."""
         weight = 1.0 / ODOM_AGREEMENT_SCANS
@@ -270,6 +322,7 @@ class EgoMotion:
                 from here, as the coasted motion already holds the steps up to here.
         """
         self._carry(match.step, tilt_rad, dt, pose)
+        self.level = self.steady = False  # (a coasting scan is taken as tilted)
         return dataclasses.replace(match, trusted=True)
 
     def coasted_tilt(self, tilt_rad: float) -> None:
@@ -293,9 +346,11 @@ class EgoMotion:
         tilt_rad: float,
         dt: float,
         pose: np.ndarray | None,
+        level: bool | None = None,
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
-        beams (new, candidate lines) never take part in a match.
+        beams (new, candidate lines) never take part in a match. ``level``: the scan
+        showed no floor line and no IMU tilt (None: its tilt is 0).
 
         A scan with fewer than ``MIN_REFERENCE_POINTS`` points left once those are out
         (in a hall beyond the scanner's range, a pitched scan can be all floor and
@@ -307,8 +362,12 @@ class EgoMotion:
         reference = every.copy()
         moving = indices(moving)
         reference[moving] = np.nan
+        level = tilt_rad == 0.0 if level is None else level
         if match.trusted and dt > 0.0:
             self.velocity = match.step.scaled(1.0 / dt)
+            # matched against the scan before, level both: the drive is measured
+            self.steady = level and self.level and self.coasted_s == 0.0
+        self.level = level
         left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
         if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
             self._carry(match.step, tilt_rad, dt, pose)

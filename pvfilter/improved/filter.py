@@ -226,7 +226,8 @@ class ImprovedPitchVariationFilter:
             self._ego.coasted_tilt(tilt)
         else:
             new_or_line = found.new | detection.candidates
-            self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose)
+            level = not (detection.tilted or (attitude is not None and attitude.tilted))
+            self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level)
         # remove: the beams of every detected segment become NaN
         return removal(detection)
 

@@ -171,6 +171,55 @@ def test_a_robot_that_stopped_is_found_where_a_wrong_velocity_finds_no_pairs():
     assert not ego.match(layout, points, segments, DT, wrong, True, None).trusted
 
 
+@pytest.mark.parametrize(("dt", "held"), [(0.025, True), (0.1, False)])
+def test_a_line_that_moves_with_the_pitch_cannot_pull_the_drive_faster_than_physics(dt, held):
+    # a corridor whose ends are out of range: only a line across it ahead fixes x. Three
+    # level scans measure a drive of 0.4 m/s towards the line (a wall); in the fourth the
+    # line is 10 cm nearer than the drive puts it (a floor line as the pitch grows). At
+    # 40 Hz no balancing robot's sensor moves 10 cm off its measured velocity in one scan
+    # time: the drive stays within the steady doubt; at 10 Hz the body's swing about the
+    # axle can move it that far, and the match is taken as found
+    corridor = room_segments(20.0, 20.0, 1.0, 1.0)
+    step_m = 0.4 * dt
+
+    def matched_at(ego, k, line_x_m):
+        line = np.array([[[line_x_m, -1.0], [line_x_m, 1.0]]])
+        scan, _ = tilted_scan(pose=(k * step_m, 0.0, 0.0), walls=np.concatenate((corridor, line)))
+        layout, points, segments = prepared(scan)
+        found = ego.match(layout, points, segments, dt, ego.prior(dt, None), False, None)
+        ego.commit(points, np.zeros(len(points), bool), found, 0.0, dt, None)
+        return found
+
+    ego = EgoMotion(PARAMS)
+    for k in range(3):
+        measured = matched_at(ego, k, 2.0)
+    assert measured.step.tx_m == pytest.approx(-step_m, abs=0.002) and ego.steady
+    pulled = matched_at(ego, 3, 1.9)
+    bound = ego.steady_doubt_m(dt) + egomotion.STEP_NOISE_M  # (a fit without noise)
+    assert pulled.trusted and pulled.step.tx_m < 0.0
+    if held:
+        assert bound < 0.05
+        assert -pulled.step.tx_m - step_m == pytest.approx(bound, abs=0.002)
+        assert pulled.weak[0] == 0.0  # the drive along the pull is left to the view's doubt
+    else:
+        assert bound > 0.1
+        assert pulled.step.tx_m == pytest.approx(-step_m - 0.1, abs=0.005)
+
+
+def test_the_steady_doubt_holds_only_a_measured_velocity():
+    # after a start afresh the velocity is 0 by default, not measured: a robot already
+    # driving is found as it drives (no doubt drawn around a standing prior)
+    room = room_segments(3.0, 3.0, 2.0, 2.0)
+    ego = EgoMotion(PARAMS)
+    for x_m in (0.0, 0.075):
+        scan, _ = tilted_scan(pose=(x_m, 0.0, 0.0), walls=room)
+        layout, points, segments = prepared(scan)
+        found = ego.match(layout, points, segments, 0.025, ego.prior(0.025, None), False, None)
+        ego.commit(points, np.zeros(len(points), bool), found, 0.0, 0.025, None)
+    assert found.step.tx_m == pytest.approx(-0.075, abs=0.003)
+    assert ego.steady_doubt_m(-1.0) == 0.0  # (no negative doubt)
+
+
 @pytest.mark.parametrize(("turn_noise_deg", "proven"), [(0.0, True), (1.5, False)])
 def test_odometry_proves_itself_by_turning_as_the_scans_do(turn_noise_deg, proven):
     # a two-wheeled robot's odometry turns as the scans do; a skid-steer rover's slides
