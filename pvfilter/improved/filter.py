@@ -226,7 +226,7 @@ class ImprovedPitchVariationFilter:
             self._ego.coasted_tilt(tilt)
         else:
             new_or_line = found.new | detection.candidates
-            level = not (detection.tilted or (attitude is not None and attitude.tilted))
+            level = not _shows_tilt(detection.tilted, attitude)
             self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level)
         # remove: the beams of every detected segment become NaN
         return removal(detection)
@@ -619,9 +619,7 @@ class ImprovedPitchVariationFilter:
         Tilted for longer than ``max_event_s`` cannot be (the robot levels): the scans are
         then taken as level again, so a wall mistaken for a line cannot freeze the view.
         """
-        attitude = self._attitude.current
-        if attitude is not None:
-            tilted |= attitude.tilted
+        tilted = _shows_tilt(tilted, self._attitude.current)
         self._tilted_s = self._tilted_s + dt if tilted else 0.0
         return not tilted or self._tilted_s > self.params.max_event_s
 
@@ -644,3 +642,9 @@ class ImprovedPitchVariationFilter:
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
         return False, dt if dt >= SAME_INSTANT_S else 0.0
+
+
+def _shows_tilt(lines_tilted: bool, attitude: Attitude | None) -> bool:
+    """The scan plane was tilted: a strong candidate line, or the IMU (if any) shows it
+    tilted beyond its band."""
+    return lines_tilted or (attitude is not None and attitude.tilted)

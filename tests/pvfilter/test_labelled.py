@@ -422,6 +422,14 @@ def test_a_clockwise_file_scores_as_the_same_scans_counter_clockwise(labelled_fi
     assert plain.auc > 0.9
 
 
+def cli_report(tmp_path, path, *options):
+    """``pvfilter eval-labels path *options --out``, which must succeed: its report.json
+    (parsed) and report.md."""
+    out = tmp_path / "report"
+    assert main(["eval-labels", str(path), *options, "--out", str(out)]) == 0
+    return json.loads((out / "report.json").read_text()), (out / "report.md").read_text()
+
+
 def test_angle_jitter_moves_each_angle_min_within_half_the_beams_the_same_every_run():
     scans = room_sequence(50).scans
     moved = [with_angle_jitter(scans, 1.0) for _ in range(2)]
@@ -438,10 +446,9 @@ def test_the_improved_filter_scores_a_jittered_angle_min_as_the_file(labelled_fi
     plain = evaluate_labelled(labelled_file, improved)
     jittered = evaluate_labelled(labelled_file, improved, angle_jitter_beams=1.0)
     assert jittered.auc > plain.auc - 0.02 and plain.auc > 0.9
-    out = tmp_path / "report"
-    assert main(["eval-labels", str(labelled_file), "--angle-jitter", "1", "--out", str(out)]) == 0
-    assert json.loads((out / "report.json").read_text())["angle_jitter_beams"] == 1.0
-    assert "angle_min moved within 0.5 beam" in (out / "report.md").read_text()
+    document, markdown = cli_report(tmp_path, labelled_file, "--angle-jitter", "1")
+    assert document["angle_jitter_beams"] == 1.0
+    assert "angle_min moved within 0.5 beam" in markdown
     assert main(["eval-labels", str(labelled_file), "--angle-jitter", "-1"]) == 2
 
 
@@ -502,10 +509,9 @@ def test_every_nth_scan_scores_as_the_file_thinned_out(tmp_path):
     noisy_thinned = evaluate_labelled(thinned_path, improved, range_noise_m=0.03)
     assert (noisy.tp, noisy.fp) == (noisy_thinned.tp, noisy_thinned.fp)
     assert noisy.tp != every.tp or noisy.fp != every.fp
-    out = tmp_path / "report"
-    assert main(["eval-labels", str(path), "--every", "3", "--out", str(out)]) == 0
-    assert json.loads((out / "report.json").read_text())["every"] == 3
-    assert "Every 3rd scan kept" in (out / "report.md").read_text()
+    document, markdown = cli_report(tmp_path, path, "--every", "3")
+    assert document["every"] == 3
+    assert "Every 3rd scan kept" in markdown
     assert main(["eval-labels", str(path), "--every", "0"]) == 2
 
 
@@ -541,10 +547,9 @@ def test_every_nth_beam_scores_as_the_file_written_with_a_coarser_spacing(tmp_pa
     # after --every: the scans kept, then their beams
     both = evaluate_labelled(path, improved, every=3, beam_stride=2)
     assert both.scans == len(range(0, len(arrays["ranges"]), 3))
-    out = tmp_path / "report"
-    assert main(["eval-labels", str(path), "--beam-stride", "2", "--out", str(out)]) == 0
-    assert json.loads((out / "report.json").read_text())["beam_stride"] == 2
-    assert "Every 2nd beam kept" in (out / "report.md").read_text()
+    document, markdown = cli_report(tmp_path, path, "--beam-stride", "2")
+    assert document["beam_stride"] == 2
+    assert "Every 2nd beam kept" in markdown
     assert main(["eval-labels", str(path), "--beam-stride", "0"]) == 2
     with pytest.raises(ValueError, match="--beam-stride 400 leaves fewer than 2"):
         evaluate_labelled(path, improved, beam_stride=400)
@@ -560,10 +565,9 @@ def test_a_shorter_reach_scores_as_the_file_written_by_a_shorter_range_scanner(t
     improved = filter_entry("improved")
     reach, _ = scored_as_written(path, short_path, range_max_m=3.0)
     assert reach.beams < evaluate_labelled(path, improved).beams
-    out = tmp_path / "report"
-    assert main(["eval-labels", str(path), "--range-max", "3", "--out", str(out)]) == 0
-    assert json.loads((out / "report.json").read_text())["range_max_m"] == 3.0
-    assert "Returns beyond 3 m read no echo" in (out / "report.md").read_text()
+    document, markdown = cli_report(tmp_path, path, "--range-max", "3")
+    assert document["range_max_m"] == 3.0
+    assert "Returns beyond 3 m read no echo" in markdown
     assert main(["eval-labels", str(path), "--range-max", "0"]) == 2
     with pytest.raises(ValueError, match="--range-max 50: its scans reach"):
         evaluate_labelled(path, improved, range_max_m=50.0)
