@@ -55,13 +55,14 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   the world moves off its beams with the turn, and where it came from the scan sees
   something now;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
-- a remembered surface that the motion brings nearer the scanner than it measures
-  (``range_min``, and at least ``NEAREST_SURFACE_M``, its own housing) was never one the
-  sensor could meet: a ramp's slope or a floor met at a grazing angle that a level scan
-  took for a wall, which the robot then drove onto. It leaves the view; carried on, it
-  would pass through the sensor and come out behind it, a few centimetres away, in front
-  of everything there, and the floor line behind a robot climbing that ramp would lie
-  beyond the view, not new;
+- a remembered surface that the sensor passes on the way the motion carries it, nearer
+  than the scanner measures (``range_min``, and at least ``NEAREST_SURFACE_M``, its own
+  housing), was never one the sensor could meet: a ramp's slope or a floor met at a
+  grazing angle that a level scan took for a wall, which the robot then drove onto. It
+  leaves the view; carried on, it came out behind the sensor, a few centimetres away, in
+  front of everything there, and the floor line behind a robot climbing that ramp lay
+  beyond the view, not new. (The robot's own body at the edge of ``range_min`` ends
+  near the sensor but is never passed: it stays);
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
   no echo says nothing of what stands there: it neither stops that clock nor starts it
@@ -432,11 +433,13 @@ def _passed_near(
     nearest_m: float,
 ) -> np.ndarray | None:
     """Per remembered point: on its way from ``(before_x, before_y)`` to ``(x, y)`` (its
-    place in the sensor's frame before and after the motion, m; ``ranges``: after) it came
-    within ``nearest_m`` of the sensor (None: none did). Only points within ``reach_m``
-    now (the most a point moved, plus ``nearest_m``) are looked at. A point moves along a
-    nearly straight path in one scan's time: one that came out behind the sensor had to
-    pass through it."""
+    place in the sensor's frame before and after the motion, m; ``ranges``: after) it
+    passed the sensor within ``nearest_m`` (None: none did). Only points within
+    ``reach_m`` now (the most a point moved, plus ``nearest_m``) are looked at. A point
+    moves along a nearly straight path in one scan's time: one that came out behind the
+    sensor passed through it. One that only ends near it stays: the robot's own body,
+    at the edge of ``range_min``, moves a little as the view moves it, but the sensor
+    does not pass it."""
     candidates = indices(ranges < reach_m)
     if candidates.size == 0:
         return None
@@ -444,9 +447,10 @@ def _passed_near(
     along_x = x.take(candidates) - start_x
     along_y = y.take(candidates) - start_y
     length2 = np.maximum(along_x * along_x + along_y * along_y, 1e-18)
-    nearest_at = np.clip(-(start_x * along_x + start_y * along_y) / length2, 0.0, 1.0)
+    nearest_at = -(start_x * along_x + start_y * along_y) / length2  # along the way, 0-1
     gap = np.hypot(start_x + nearest_at * along_x, start_y + nearest_at * along_y)
-    came_near = candidates.take(indices(gap < nearest_m))
+    passed = (gap < nearest_m) & (nearest_at > 0.0) & (nearest_at < 1.0)
+    came_near = candidates.take(indices(passed))
     if came_near.size == 0:
         return None
     near = np.zeros(len(ranges), dtype=bool)
