@@ -26,9 +26,19 @@ ramp's slope. Its floor line then **travels with the sensor**: it keeps its dist
 while the sensor moves through the world, where a wall stays put and comes nearer or
 recedes by the travel. So a scan past ``max_event_s`` whose strongest confident line left
 its place in the world since the world-static test's earlier scan
-(:func:`travelling_line`: most of the returns that tell moved) still counts as tilted, and
-the view does not settle onto that line. A robot that stands tells nothing by its travel,
-and the event ends at ``max_event_s`` as before.
+(:func:`travelling_line`: at least half of its returns tell, and at least
+``TRAVELLED_SHARE`` of those moved) still counts as tilted, and the view does not settle
+onto that line. A return tells where the sensor moved along its beam by more than twice
+the test's tolerance within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of
+about 0.3 m/s. A robot that stands or creeps tells nothing by its travel, and the event
+ends at ``max_event_s`` as before.
+
+The hold lasts as long as the scans show such a line: a line that travels with the
+sensor is no wall, but it may be something that moves with the robot (a cart it follows
+at a steady distance, across its path, confident as a floor line); then the view is held
+off that line for as long as the robot follows it. A single scan without a confident line
+ends the hold (the line's beams, in front of the view for longer than ``max_event_s``,
+settle at once).
 """
 
 from __future__ import annotations
@@ -44,8 +54,9 @@ from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.scoring import HeldLine, strongest_confident
 
-TRAVELLED_SHARE = 0.5  # of a line's returns whose place the sensor's travel tells, the
-# share that must have left it for the line to travel with the sensor (a wall: none)
+TOLD_SHARE = 0.5  # of a line's returns, the share whose place the sensor's travel must tell
+TRAVELLED_SHARE = 0.5  # of those, the share that must have left it for the line to travel
+# with the sensor (a wall: none; a confident line's score already holds few that stayed)
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
 
@@ -210,7 +221,9 @@ def travelling_line(
     beams = segments.beams[on_line]
     stayed, telling = static.at(beams)
     told = np.count_nonzero(telling)
-    if told < 0.5 * beams.size or np.count_nonzero(telling & ~stayed) < TRAVELLED_SHARE * told:
+    if told < TOLD_SHARE * beams.size:
+        return None
+    if np.count_nonzero(telling & ~stayed) < TRAVELLED_SHARE * told:
         return None
     travelling = np.zeros(len(detection.scan), dtype=bool)
     travelling[beams] = True

@@ -61,8 +61,10 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   grazing angle that a level scan took for a wall, which the robot then drove onto. It
   leaves the view; carried on, it came out behind the sensor, a few centimetres away, in
   front of everything there, and the floor line behind a robot climbing that ramp lay
-  beyond the view, not new. (The robot's own body at the edge of ``range_min`` ends
-  near the sensor but is never passed: it stays);
+  beyond the view, not new. (The robot's own body at the edge of ``range_min`` mostly
+  ends near the sensor without being passed, and stays; where a drive does pass it, the
+  next scan returns it again.) Only a strip as wide as the scanner's housing is cleared:
+  the rest of such a surface beside the path stays until forgotten or replaced;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
   no echo says nothing of what stands there: it neither stops that clock nor starts it
@@ -182,8 +184,8 @@ class LevelMemory:
         range, a valid return; None: not known) let free space that the motion carries
         from a beam still silent onto another beam that returns be taken for what it is:
         no sight of free space (see the module docstring: a sector the body blocks).
-        ``range_min``: the scanner's, m; a remembered point moved nearer than it (or than
-        ``NEAREST_SURFACE_M``) leaves the view (see the module docstring).
+        ``range_min``: the scanner's, m; a remembered point that the sensor passes nearer
+        than it (or than ``NEAREST_SURFACE_M``) leaves the view (see the module docstring).
         """
         state = self.state
         # free space is a point where it is known free to, an unknown beam (fmin ignores
@@ -203,11 +205,11 @@ class LevelMemory:
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
         # the moved points, by their beams; each beam's nearest range is its view already
-        # (points the sensor came too near to were no surfaces it could meet: left out)
+        # (points the sensor passed were no surfaces it could meet: left out)
         # (a point moves by the motion's translation, and by the sensor's during half a
         # scan before and after it, at most: only points that near now can have come near)
-        half_scan = 0.5 * layout.count
-        travel_m = motion.translation_m + half_scan * (
+        half_count = 0.5 * layout.count  # beams from mid-scan to either end
+        travel_m = motion.translation_m + half_count * (
             abs(self.time_increment) * self.velocity.translation_m
             + abs(time_increment) * velocity.translation_m
         )
@@ -423,6 +425,29 @@ def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> 
     return nearest_by_beam(beams, ranges, layout)[0]
 
 
+def nearest_by_beam(
+    beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`nearest_first`, and per beam the range of its nearest point (NaN: no point
+    lands on it): the very ranges that order writes (ties have equal ranges)."""
+    nearest = np.empty(layout.count)
+    nearest.fill(np.nan)  # no point yet: fmin takes any range over NaN
+    if layout.ring:  # on a ring every point lands on a beam
+        np.fmin.at(nearest, beams, ranges)
+        order = indices(ranges == nearest.take(beams))
+    else:
+        inside = indices(beams >= 0)
+        inside_beams = beams.take(inside)
+        np.fmin.at(nearest, inside_beams, ranges.take(inside))
+        order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
+    if order.size == np.count_nonzero(nearest == nearest):  # one nearest point per beam
+        return order, nearest
+    order = np.argsort(-ranges)
+    if not layout.ring:
+        order = order[beams[order] >= 0]
+    return order, nearest
+
+
 def _passed_near(
     before_x: np.ndarray,
     before_y: np.ndarray,
@@ -447,7 +472,7 @@ def _passed_near(
     along_x = x.take(candidates) - start_x
     along_y = y.take(candidates) - start_y
     length2 = np.maximum(along_x * along_x + along_y * along_y, 1e-18)
-    nearest_at = -(start_x * along_x + start_y * along_y) / length2  # along the way, 0-1
+    nearest_at = -(start_x * along_x + start_y * along_y) / length2  # 0-1: on the way
     gap = np.hypot(start_x + nearest_at * along_x, start_y + nearest_at * along_y)
     passed = (gap < nearest_m) & (nearest_at > 0.0) & (nearest_at < 1.0)
     came_near = candidates.take(indices(passed))
@@ -456,29 +481,6 @@ def _passed_near(
     near = np.zeros(len(ranges), dtype=bool)
     near[came_near] = True
     return near
-
-
-def nearest_by_beam(
-    beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`nearest_first`, and per beam the range of its nearest point (NaN: no point
-    lands on it): the very ranges that order writes (ties have equal ranges)."""
-    nearest = np.empty(layout.count)
-    nearest.fill(np.nan)  # no point yet: fmin takes any range over NaN
-    if layout.ring:  # on a ring every point lands on a beam
-        np.fmin.at(nearest, beams, ranges)
-        order = indices(ranges == nearest.take(beams))
-    else:
-        inside = indices(beams >= 0)
-        inside_beams = beams.take(inside)
-        np.fmin.at(nearest, inside_beams, ranges.take(inside))
-        order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
-    if order.size == np.count_nonzero(nearest == nearest):  # one nearest point per beam
-        return order, nearest
-    order = np.argsort(-ranges)
-    if not layout.ring:
-        order = order[beams[order] >= 0]
-    return order, nearest
 
 
 def _forget_carried_silence(

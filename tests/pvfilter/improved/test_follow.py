@@ -247,7 +247,9 @@ def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_n
     assert line is not None and line[on_floor].mean() > 0.9 and not line[~on_floor].any()
     # a wall 0.12 m farther off in the earlier scan, as the line's place predicts it
     facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
-    stayed = WorldStatic(ranges, ranges + 0.12 / facing, directions, layout, drove, 0.03)
+    stayed = WorldStatic(
+        ranges, ranges + 0.12 / facing, directions, layout, drove, STATIC_TOLERANCE_M
+    )
     assert travelling_line(detection, stayed, pvf.params) is None
     standing = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
     assert travelling_line(detection, standing, pvf.params) is None

@@ -194,11 +194,12 @@ def test_a_surface_the_sensor_drives_through_leaves_the_view():
         remembered(level), layout, 12.0, Motion(tx_m=-0.4), STILL, 0.0, PARAMS,
         range_min=level.range_min,
     )  # fmt: skip
+    # the strip the sensor itself passed through (its housing wide) is clear: the wall
+    # behind is the view there; beside it, under the robot's body, the surface stays
     behind = np.abs(level.angles()) > math.radians(160.0)
     seen = behind & np.isfinite(after.ranges)
     assert np.count_nonzero(seen) > 20
     np.testing.assert_allclose(view.ranges[seen], after.ranges[seen], atol=0.02)
-    assert np.nanmin(view.ranges) >= level.range_min
 
 
 def test_a_view_without_a_return_for_too_long_is_forgotten():
