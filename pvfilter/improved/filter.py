@@ -43,7 +43,7 @@ from pvfilter.improved.evidence import (
     free_space_evidence,
     free_space_gaps,
 )
-from pvfilter.improved.follow import FloorFollower
+from pvfilter.improved.follow import FloorFollower, travelling_line
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
@@ -130,6 +130,7 @@ class _Found(NamedTuple):
     view: LevelView | None  # the level view in this scan's frame
     level_ranges: np.ndarray  # the scan's ranges, mid-scan and unstretched, m
     back: np.ndarray | None  # bool per beam: a surface the view gave up is back (None: none)
+    static: WorldStatic | None  # the world-static test against an earlier scan (None: none)
 
 
 class ImprovedPitchVariationFilter:
@@ -352,7 +353,7 @@ class ImprovedPitchVariationFilter:
             outcome.coast,
             held,
         )
-        return _Found(detection, new, view, level_ranges, back)
+        return _Found(detection, new, view, level_ranges, back, static)
 
     def _match(
         self, prepared: _Prepared, prior: tuple[Motion, tuple[float, float]], fresh: bool
@@ -401,7 +402,11 @@ class ImprovedPitchVariationFilter:
         scan, detection = prepared.scan, found.detection
         params = self.params
         was_in_event = 0.0 < self._tilted_s <= params.max_event_s
-        level = self._level(detection.tilted or coast, prepared.dt)
+        tilted = detection.tilted or coast
+        travelling = None  # past a pitch event's length: a floor line that travels with the sensor
+        if tilted and self._tilted_s + prepared.dt > params.max_event_s:
+            travelling = travelling_line(detection, found.static, self._line_params)
+        level = self._level(tilted, prepared.dt, travelling is not None)
         # the doubt of a step into or out of a pitch event stays; after it the view comes
         # closer behind lines across the travel at line_shrink_mps plus the drive
         creep_m = 0.0  # (at once, dt 0: no time to come closer; inf * 0 is NaN)
@@ -422,6 +427,7 @@ class ImprovedPitchVariationFilter:
             self._across(prepared.segments, len(scan)),
             found.back,
             scan.range_max,
+            travelling,
         )
         self._recent.add(scan.stamp, found.level_ranges)
 
@@ -476,8 +482,9 @@ class ImprovedPitchVariationFilter:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None, None
         echoes = no_echo, ranges == ranges  # silent beams, and returns (NaN compares False)
         view = self._memory.view(
-            layout, scan.range_max, step, velocity, scan.time_increment, params, *echoes
-        )
+            layout, scan.range_max, step, velocity, scan.time_increment, params, *echoes,
+            range_min=scan.range_min,
+        )  # fmt: skip
         self._recent.advance(step)
         gaps = free_space_gaps(ranges, view.known_free_m(), layout, scan.range_max)
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
@@ -571,7 +578,7 @@ class ImprovedPitchVariationFilter:
                 return None
             moved = self._memory.view(
                 layout, scan.range_max, step.then(correction), velocity, scan.time_increment,
-                params, *echoes,
+                params, *echoes, range_min=scan.range_min,
             )  # fmt: skip
             moved_gaps = free_space_gaps(ranges, moved.known_free_m(), layout, scan.range_max)
             if not explains_view_error(gaps, moved_gaps, margin, directions):
@@ -613,15 +620,17 @@ class ImprovedPitchVariationFilter:
         self._doubt.reset()
         self._tilted_s = 0.0
 
-    def _level(self, tilted: bool, dt: float) -> bool:
+    def _level(self, tilted: bool, dt: float, travelling: bool = False) -> bool:
         """The scan plane was level: no strong candidate line, and the IMU (if any) agrees.
 
         Tilted for longer than ``max_event_s`` cannot be (the robot levels): the scans are
-        then taken as level again, so a wall mistaken for a line cannot freeze the view.
+        then taken as level again, so a wall mistaken for a line cannot freeze the view;
+        unless the scan's floor line is ``travelling`` with the sensor, as no wall does
+        (:func:`~pvfilter.improved.follow.travelling_line`).
         """
         tilted = _shows_tilt(tilted, self._attitude.current)
         self._tilted_s = self._tilted_s + dt if tilted else 0.0
-        return not tilted or self._tilted_s > self.params.max_event_s
+        return not tilted or (self._tilted_s > self.params.max_event_s and not travelling)
 
     def _start(self, scan: Scan) -> tuple[bool, float]:
         """Check stamp and beams: does the scan start afresh, and the time step, s."""

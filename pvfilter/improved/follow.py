@@ -18,6 +18,27 @@ differs by more than the free-space margin from where the earliest of those line
 lie had it stayed put in the world (moved by the sensor's travel since). A wall that
 reappears where a floor line was, taken for one, stays put in the world; following it
 would hold the view off it, and keep it new, for as long as it is seen.
+
+A pitch event ends within ``max_event_s`` (the robot levels), and past it the scans are
+taken as level again, so that a wall taken for a floor line cannot freeze the level view.
+A tilt can last longer: a robot held leaning while it drives on, a body that follows a
+ramp's slope. Its floor line then **travels with the sensor**: it keeps its distance
+while the sensor moves through the world, where a wall stays put and comes nearer or
+recedes by the travel. So a scan past ``max_event_s`` whose strongest confident line left
+its place in the world since the world-static test's earlier scan
+(:func:`travelling_line`: at least half of its returns tell, and at least
+``TRAVELLED_SHARE`` of those moved) still counts as tilted, and the view does not settle
+onto that line. A return tells where the sensor moved along its beam by more than twice
+the test's tolerance within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of
+about 0.3 m/s. A robot that stands or creeps tells nothing by its travel, and the event
+ends at ``max_event_s`` as before.
+
+The hold lasts as long as the scans show such a line: a line that travels with the
+sensor is no wall, but it may be something that moves with the robot (a cart it follows
+at a steady distance, across its path, confident as a floor line); then the view is held
+off that line for as long as the robot follows it. A single scan without a confident line
+ends the hold (the line's beams, in front of the view for longer than ``max_event_s``,
+settle at once).
 """
 
 from __future__ import annotations
@@ -27,11 +48,15 @@ import dataclasses
 import numpy as np
 
 from pvfilter.improved.clusters import LineDetection
+from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.geometry import TURN_TOLERANCE, folded, line_lean
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
-from pvfilter.improved.scoring import HeldLine
+from pvfilter.improved.scoring import HeldLine, strongest_confident
 
+TOLD_SHARE = 0.5  # of a line's returns, the share whose place the sensor's travel must tell
+TRAVELLED_SHARE = 0.5  # of those, the share that must have left it for the line to travel
+# with the sensor (a wall: none; a confident line's score already holds few that stayed)
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
 
@@ -167,3 +192,39 @@ class FloorFollower:
         beams = np.zeros(len(detection.scan), dtype=bool)
         beams[segments.beams] = followed.take(segments.labels)
         return beams
+
+
+def travelling_line(
+    detection: LineDetection, static: WorldStatic | None, params: ImprovedParams
+) -> np.ndarray | None:
+    """Per beam: it lies on the scan's strongest confident floor line, and that line has
+    travelled with the sensor (None: no such line, or the sensor's travel tells too
+    little of it).
+
+    The line travelled where at least half of its returns tell (the sensor moved along
+    their beams by more than the world-static test's tolerance twice,
+    :meth:`~pvfilter.improved.evidence.WorldStatic.at`) and at least
+    ``TRAVELLED_SHARE`` of those did not stay where the earlier scan saw them.
+
+    Args:
+        detection: the scan's line detection.
+        static: the world-static test against an earlier scan (None: none).
+        params: ``down_side_min_new`` (what makes a line confident).
+    """
+    if static is None:
+        return None
+    segments = detection.segments
+    strongest = strongest_confident(segments, detection.segment_scores, params)
+    if strongest is None:
+        return None
+    on_line = segments.labels == strongest
+    beams = segments.beams[on_line]
+    stayed, telling = static.at(beams)
+    told = np.count_nonzero(telling)
+    if told < TOLD_SHARE * beams.size:
+        return None
+    if np.count_nonzero(telling & ~stayed) < TRAVELLED_SHARE * told:
+        return None
+    travelling = np.zeros(len(detection.scan), dtype=bool)
+    travelling[beams] = True
+    return travelling

@@ -55,6 +55,16 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   the world moves off its beams with the turn, and where it came from the scan sees
   something now;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
+- a remembered surface that the sensor passes on the way the motion carries it, nearer
+  than the scanner measures (``range_min``, and at least ``NEAREST_SURFACE_M``, its own
+  housing), was never one the sensor could meet: a ramp's slope or a floor met at a
+  grazing angle that a level scan took for a wall, which the robot then drove onto. It
+  leaves the view; carried on, it came out behind the sensor, a few centimetres away, in
+  front of everything there, and the floor line behind a robot climbing that ramp lay
+  beyond the view, not new. (The robot's own body at the edge of ``range_min`` mostly
+  ends near the sensor without being passed, and stays; where a drive does pass it, the
+  next scan returns it again.) Only a strip as wide as the scanner's housing is cleared:
+  the rest of such a surface beside the path stays until forgotten or replaced;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
   no echo says nothing of what stands there: it neither stops that clock nor starts it
@@ -77,6 +87,9 @@ from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.sweep import move_xy
+
+NEAREST_SURFACE_M = 0.05  # m: no surface the scanner saw lies nearer to it than its own
+# housing (a LiDAR's radius is a few centimetres)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -158,6 +171,7 @@ class LevelMemory:
         params: ImprovedParams,
         no_echo: np.ndarray | None = None,
         returned: np.ndarray | None = None,
+        range_min: float = 0.0,
     ) -> LevelView:
         """The level view of each beam of the current scan: the memory moved by ``motion``.
 
@@ -170,15 +184,18 @@ class LevelMemory:
         range, a valid return; None: not known) let free space that the motion carries
         from a beam still silent onto another beam that returns be taken for what it is:
         no sight of free space (see the module docstring: a sector the body blocks).
+        ``range_min``: the scanner's, m; a remembered point that the sensor passes nearer
+        than it (or than ``NEAREST_SURFACE_M``) leaves the view (see the module docstring).
         """
         state = self.state
         # free space is a point where it is known free to, an unknown beam (fmin ignores
         # NaN) one at range_max: every beam has a point to move (range_max is finite), so
         # no beam is left out
         remembered = np.fmin(state.known_free_m(), range_max)
+        before_x, before_y = remembered * layout.cos, remembered * layout.sin
         x, y = move_xy(
-            remembered * layout.cos,
-            remembered * layout.sin,
+            before_x,
+            before_y,
             layout.every_beam(),
             layout,
             motion,
@@ -188,7 +205,22 @@ class LevelMemory:
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
         # the moved points, by their beams; each beam's nearest range is its view already
-        order, nearest = nearest_by_beam(beams, ranges, layout)
+        # (points the sensor passed were no surfaces it could meet: left out)
+        # (a point moves by the motion's translation, and by the sensor's during half a
+        # scan before and after it, at most: only points that near now can have come near)
+        half_count = 0.5 * layout.count  # beams from mid-scan to either end
+        travel_m = motion.translation_m + half_count * (
+            abs(self.time_increment) * self.velocity.translation_m
+            + abs(time_increment) * velocity.translation_m
+        )
+        nearest_m = max(range_min, NEAREST_SURFACE_M)
+        too_near = _passed_near(before_x, before_y, x, y, ranges, travel_m + nearest_m, nearest_m)
+        if too_near is not None:  # (mostly none)
+            kept = indices(~too_near)
+            order, nearest = nearest_by_beam(beams.take(kept), ranges.take(kept), layout)
+            order = kept.take(order)
+        else:
+            order, nearest = nearest_by_beam(beams, ranges, layout)
         # per beam, the remembered beam whose values it carries on (-1: none); worked out
         # first, so that each of the values a beam carries is gathered once
         source = np.empty(layout.count, dtype=np.intp)
@@ -234,6 +266,7 @@ class LevelMemory:
         across: np.ndarray | None = None,
         back: np.ndarray | None = None,
         range_max: float = math.inf,
+        travelling: np.ndarray | None = None,
     ) -> None:
         """Take a scan into the memory.
 
@@ -253,6 +286,9 @@ class LevelMemory:
             back: bool per beam: a surface the view gave up is back there, as
                 :meth:`LevelView.surfaces_back` finds for this scan (None: nowhere).
             range_max: the scan's range limit, m: how far its silent beams see free.
+            travelling: bool per beam: on a floor line that travels with the sensor, which
+                stays in front of the view past ``max_event_s`` without settling onto it
+                (:func:`pvfilter.improved.follow.travelling_line`; None: nowhere).
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
@@ -298,7 +334,10 @@ class LevelMemory:
         # and a return settles the view only when there is one (in a tilted scan the
         # floor line moves with the pitch: where it went silent, it has moved on)
         ahead *= in_front | (no_return & (view.ahead_s > 0.0)) if level else in_front
-        settled = indices((ahead > params.max_event_s) & in_front)  # (indices: mostly none)
+        settling = (ahead > params.max_event_s) & in_front
+        if travelling is not None:  # (a floor line held past an event's length: not yet)
+            settling &= ~travelling
+        settled = indices(settling)  # (indices: mostly none)
         if settled.size:
             ahead[settled] = 0.0
         if not level:  # a tilted plane: the view only moves, and its clock stands still
@@ -407,6 +446,41 @@ def nearest_by_beam(
     if not layout.ring:
         order = order[beams[order] >= 0]
     return order, nearest
+
+
+def _passed_near(
+    before_x: np.ndarray,
+    before_y: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    ranges: np.ndarray,
+    reach_m: float,
+    nearest_m: float,
+) -> np.ndarray | None:
+    """Per remembered point: on its way from ``(before_x, before_y)`` to ``(x, y)`` (its
+    place in the sensor's frame before and after the motion, m; ``ranges``: after) it
+    passed the sensor within ``nearest_m`` (None: none did). Only points within
+    ``reach_m`` now (the most a point moved, plus ``nearest_m``) are looked at. A point
+    moves along a nearly straight path in one scan's time: one that came out behind the
+    sensor passed through it. One that only ends near it stays: the robot's own body,
+    at the edge of ``range_min``, moves a little as the view moves it, but the sensor
+    does not pass it."""
+    candidates = indices(ranges < reach_m)
+    if candidates.size == 0:
+        return None
+    start_x, start_y = before_x.take(candidates), before_y.take(candidates)
+    along_x = x.take(candidates) - start_x
+    along_y = y.take(candidates) - start_y
+    length2 = np.maximum(along_x * along_x + along_y * along_y, 1e-18)
+    nearest_at = -(start_x * along_x + start_y * along_y) / length2  # 0-1: on the way
+    gap = np.hypot(start_x + nearest_at * along_x, start_y + nearest_at * along_y)
+    passed = (gap < nearest_m) & (nearest_at > 0.0) & (nearest_at < 1.0)
+    came_near = candidates.take(indices(passed))
+    if came_near.size == 0:
+        return None
+    near = np.zeros(len(ranges), dtype=bool)
+    near[came_near] = True
+    return near
 
 
 def _forget_carried_silence(

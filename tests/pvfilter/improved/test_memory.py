@@ -183,6 +183,25 @@ def test_a_return_in_front_for_longer_than_an_event_replaces_the_view():
     np.testing.assert_allclose(memory.state.ranges[deep], pitched.ranges[deep])
 
 
+def test_a_surface_the_sensor_drives_through_leaves_the_view():
+    # a ramp's slope that a level scan took for a low wall 0.3 m ahead, across the path:
+    # driven 0.4 m on, it would lie 0.1 m behind the sensor, in front of the wall there
+    ramp = np.array([[[0.3, -0.2], [0.3, 0.2]]])
+    level, _ = room_scan(noise_m=0.0, extra=ramp)
+    after, _ = room_scan((0.4, 0.0, 0.0), noise_m=0.0)
+    layout = BeamLayout.of(level)
+    view = LevelMemory.view(
+        remembered(level), layout, 12.0, Motion(tx_m=-0.4), STILL, 0.0, PARAMS,
+        range_min=level.range_min,
+    )  # fmt: skip
+    # the strip the sensor itself passed through (its housing wide) is clear: the wall
+    # behind is the view there; beside it, under the robot's body, the surface stays
+    behind = np.abs(level.angles()) > math.radians(160.0)
+    seen = behind & np.isfinite(after.ranges)
+    assert np.count_nonzero(seen) > 20
+    np.testing.assert_allclose(view.ranges[seen], after.ranges[seen], atol=0.02)
+
+
 def test_a_view_without_a_return_for_too_long_is_forgotten():
     params = dataclasses.replace(PARAMS, memory_timeout_s=0.25)
     level, _ = room_scan(noise_m=0.0)
