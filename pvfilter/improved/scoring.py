@@ -286,11 +286,11 @@ def score_segments(
     voters = gates & ~beyond if np.count_nonzero(beyond) else gates
     down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
     if down == 0 and voters is not gates:
-        voters = gates
         down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
-    if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own)
-        scan_down, scan_tilt = _down_side(voters, new_counts, side, tilt, distances, None, params)
+    if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,
+        # every gated line voting, checks the IMU's sign)
+        scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
         # a line on the estimate's up side contradicts its sign only where no ceiling can
         # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points
         # than the floor line behind): nearer than IMU_SIGN_CEILING_SHARE of the nearest
