@@ -280,9 +280,16 @@ def score_segments(
     not_static, beyond = _evidence_against(segments, asked, static, tilt, time_increment, params)
     score *= not_static
     score[beyond] *= params.up_side_weight
-    down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
+    # a line with returns beyond it is not where the plane meets the floor: where the
+    # other lines show a pitch event, it has no say in where the floor is (nose up among
+    # tables, the new faces ahead outnumbered the floor line behind)
+    voters = gates & ~beyond if np.count_nonzero(beyond) else gates
+    down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
+    if down == 0 and voters is not gates:
+        down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
-    if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own)
+    if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,
+        # every gated line voting, checks the IMU's sign)
         scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
         # a line on the estimate's up side contradicts its sign only where no ceiling can
         # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points

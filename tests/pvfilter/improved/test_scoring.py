@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pvfilter.improved import ImprovedParams, segment_scan
+from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter, segment_scan
 from pvfilter.improved.evidence import STATIC_TOLERANCE_M
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.scoring import (
@@ -22,7 +22,7 @@ from pvfilter.improved.scoring import (
 )
 from pvfilter.synthetic import room_segments
 
-from .conftest import HEIGHT_M, tilted_scan
+from .conftest import HEIGHT_M, ROOM, tilted_scan
 
 PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
 INCREMENT = math.radians(0.5)
@@ -419,3 +419,27 @@ def test_an_imu_tilted_barely_beyond_its_band_lends_no_line_its_support():
     sure = Attitude(tilt, 0.0, math.radians(1.5))
     _, supported = scored(wall, new=none_new, attitude=sure, static=Told(False))
     assert supported.scores[0] == pytest.approx(IMU_SUPPORT)
+
+
+def test_a_face_with_returns_beyond_it_has_no_say_in_where_the_floor_is():
+    # nose up among tables: the plane meets a table's side 0.9 m ahead (new, 1 m wide, the
+    # room's far wall seen beside it) and the floor 1.4 m behind, most of whose line the
+    # chairs hide. The face holds more new points, but returns beyond it prove it is not
+    # where the plane meets the floor: the floor is behind, and its line is removed
+    pose = (-2.3, 0.0, 0.0)  # the wall behind 1.7 m off, the wall ahead 6.3 m
+    table = np.array([[[-1.4, -0.5], [-1.4, 0.5]]])  # world, m: 0.9 m ahead of the sensor
+    pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
+    for k in range(10):
+        pvf.process(tilted_scan(pose, 0.0, stamp=0.1 * k)[0])
+    walls = np.concatenate((ROOM, table))
+    scan, hit = tilted_scan(pose, math.radians(-10.0), walls=walls, stamp=1.0)
+    angles = scan.angles()
+    chairs = (np.abs(angles) > math.radians(90.0)) & (np.abs(angles) < math.radians(160.0))
+    scan = scan.with_ranges(np.where(chairs, np.nan, scan.ranges))  # the floor line hidden
+    floor = (hit == 2) & ~chairs
+    face = (hit == 1) & (np.abs(angles) < math.radians(30.0))
+    assert face.sum() > floor.sum() > 20
+    result = pvf.process(scan)
+    assert result.lines.segment_scores.down_side == -1
+    assert result.removed[floor].mean() > 0.9
+    assert not result.removed[face].any()
