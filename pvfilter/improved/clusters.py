@@ -85,8 +85,9 @@ class LineDetection:
 
     @property
     def plane_tilt_rad(self) -> float:
-        """The tilt that puts the floor on the strongest line (or the IMU's), rad; NaN when
-        the scan has no such line."""
+        """The tilt that puts the floor on the strongest line that chose the down side
+        (:func:`pvfilter.improved.scoring.score_segments`), or the IMU's, rad; NaN when the
+        scan has no such line."""
         return self.segment_scores.down_tilt_rad
 
     @functools.cached_property

@@ -14,8 +14,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    fit's own error explain. A segment that fails gets no score.
 3. **The two sides**: a tilted plane goes down on one side of the sensor and up on the
    other. The down side is the side of the strongest line (the gated segment with the
-   most new points, at least ``down_side_min_new``; where no segment alone has that many,
-   a segment counts all the new points of the scan that lie on its line: a full turn's
+   most new points, at least ``down_side_min_new``, among those without returns beyond
+   them unless none of those has that many; where no segment alone has that many, a
+   segment counts all the new points of the scan that lie on its line: a full turn's
    seam, chair legs or stray returns cut one floor line into pieces), or the IMU's;
    unless the strongest line of the other side, taken for the floor, explains both lines
    where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
@@ -289,7 +290,9 @@ def score_segments(
         down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
     if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,
-        # every gated line voting, checks the IMU's sign)
+        # every gated line voting, checks the IMU's sign: counted without the lines with
+        # returns beyond them, an IMU of the wrong sign was disowned later, the fourth
+        # generator's nose-up IMU set 1 0.756 to 0.742)
         scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
         # a line on the estimate's up side contradicts its sign only where no ceiling can
         # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points
@@ -489,7 +492,7 @@ def _world_static_share(
 
 
 def _down_side(
-    gates: np.ndarray,
+    voters: np.ndarray,
     new_counts: np.ndarray,
     side: np.ndarray,
     tilt: np.ndarray,
@@ -499,9 +502,10 @@ def _down_side(
 ) -> tuple[int, float]:
     """Where the floor is (+1 ahead, -1 behind, 0 unknown) and the tilt that puts it there.
 
-    The IMU's pitch when it says the plane is tilted; else the strongest gated line,
-    unless the strongest line on the other side tells otherwise. A plane tilts down on one
-    side only, and on the other it meets a ceiling, never nearer than
+    The IMU's pitch when it says the plane is tilted; else the strongest of the voting
+    lines (``voters``: bool per segment, gated lines, or those of them with no returns
+    beyond), unless the strongest voting line on the other side tells otherwise. A plane
+    tilts down on one side only, and on the other it meets a ceiling, never nearer than
     ``ceiling_min_distance`` for its tilt. Where the strongest line, taken for the floor,
     leaves the other side's strong line nearer than that, and that line, taken for the
     floor, puts the strongest one where a ceiling can be, the other side is the floor's:
@@ -510,7 +514,7 @@ def _down_side(
     """
     if attitude is not None and attitude.tilted:
         return attitude.down_side, attitude.tilt_rad
-    strength = np.where(gates, new_counts, 0.0)
+    strength = np.where(voters, new_counts, 0.0)
     strongest = int(strength.argmax()) if strength.size else 0
     if strength.size == 0 or strength[strongest] < params.down_side_min_new:
         return 0, math.nan
