@@ -204,10 +204,10 @@ class LevelMemory:
         )
         ranges = np.hypot(x, y)
         beams = layout.beam_at(x, y)
-        # the moved points, by their beams; each beam's nearest range is its view already
-        # (points the sensor passed were no surfaces it could meet: left out)
-        # (a point moves by the motion's translation, and by the sensor's during half a
-        # scan before and after it, at most: only points that near now can have come near)
+        # the moved points, by their beams; each beam's nearest range is its view already,
+        # but points the sensor passed were no surfaces it could meet and are left out (a
+        # point moves by the motion's translation, and by the sensor's during half a scan
+        # before and after it, at most: only points that near now can have come near)
         half_count = 0.5 * layout.count  # beams from mid-scan to either end
         travel_m = motion.translation_m + half_count * (
             abs(self.time_increment) * self.velocity.translation_m

@@ -284,9 +284,10 @@ def score_segments(
     # a line with returns beyond it is not where the plane meets the floor: where the
     # other lines show a pitch event, it has no say in where the floor is (nose up among
     # tables, the new faces ahead outnumbered the floor line behind)
-    voters = gates & ~beyond if np.count_nonzero(beyond) else gates
+    flagged = np.count_nonzero(beyond) > 0
+    voters = gates & ~beyond if flagged else gates
     down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
-    if down == 0 and voters is not gates:
+    if down == 0 and flagged:
         down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
     if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,

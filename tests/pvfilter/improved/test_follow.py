@@ -203,26 +203,27 @@ def test_a_floor_line_held_through_a_turn_in_place_stays_removed():
     assert max(wall_removed) <= 25
 
 
-def _held_tilt_recall(speed_mps: float) -> list[float]:
-    """Level for 1 s, then 8 deg nose down held for 3.5 s (``max_event_s`` is 2 s) while
-    the robot drives at ``speed_mps``: per tilted scan, the share of its floor beams
-    removed."""
+def _held_tilt_drive(scans: int):
+    """A filter, and per scan (its index, the scan, its floor beams): level for 1 s, then
+    8 deg nose down held (``max_event_s`` is 2 s) while the robot drives at 0.4 m/s."""
     pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
-    recall = []
-    for k in range(45):
+    frames = []
+    for k in range(scans):
         pitch = math.radians(8.0) if k >= 10 else 0.0
-        pose = (-3.0 + speed_mps * 0.1 * k, 0.0, 0.0)  # the wall ahead 5-7 m off
-        scan, on_floor = room_scan(pose, pitch, stamp=0.1 * k, seed=k)
-        removed = pvf.process(scan).removed
-        if k >= 10:
-            recall.append(float(removed[on_floor].mean()))
-    return recall
+        pose = (-3.0 + 0.04 * k, 0.0, 0.0)  # the wall ahead 5-7 m off
+        frames.append((k, *room_scan(pose, pitch, stamp=0.1 * k, seed=k)))
+    return pvf, frames
 
 
 def test_a_tilt_held_while_driving_stays_removed_past_an_events_length():
-    # the floor line keeps its distance, 1.8 m ahead, while the robot drives 1.4 m: no
-    # wall does that
-    recall = _held_tilt_recall(0.4)
+    # the floor line keeps its distance, 1.8 m ahead, while the robot drives 1.4 m in the
+    # 3.5 s of the tilt: no wall does that
+    pvf, frames = _held_tilt_drive(45)
+    recall = []
+    for k, scan, on_floor in frames:
+        removed = pvf.process(scan).removed
+        if k >= 10:
+            recall.append(float(removed[on_floor].mean()))
     assert min(recall) > 0.9, np.round(recall, 2)
 
 
@@ -230,11 +231,10 @@ def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_n
     # the scan 1.5 s into the held tilt above, its strong line 1.8 m ahead; the earlier
     # scan of the world-static test saw the line where it is now (it travelled), or where
     # a wall would have stood (it stayed), or the sensor stood (nothing tells)
-    pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=HEIGHT_M))
-    for k in range(26):
-        pitch = math.radians(8.0) if k >= 10 else 0.0
-        scan, on_floor = room_scan((-3.0 + 0.04 * k, 0.0, 0.0), pitch, stamp=0.1 * k, seed=k)
+    pvf, frames = _held_tilt_drive(26)
+    for _, scan, _ in frames:
         detection = pvf.process(scan).lines
+    _, scan, on_floor = frames[-1]
     layout = BeamLayout.of(scan)
     ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
     segments = detection.segments

@@ -190,10 +190,9 @@ def test_a_surface_the_sensor_drives_through_leaves_the_view():
     level, _ = room_scan(noise_m=0.0, extra=ramp)
     after, _ = room_scan((0.4, 0.0, 0.0), noise_m=0.0)
     layout = BeamLayout.of(level)
-    view = LevelMemory.view(
-        remembered(level), layout, 12.0, Motion(tx_m=-0.4), STILL, 0.0, PARAMS,
-        range_min=level.range_min,
-    )  # fmt: skip
+    view = remembered(level).view(
+        layout, 12.0, Motion(tx_m=-0.4), STILL, 0.0, PARAMS, range_min=level.range_min
+    )
     # the strip the sensor itself passed through (its housing wide) is clear: the wall
     # behind is the view there; beside it, under the robot's body, the surface stays
     behind = np.abs(level.angles()) > math.radians(160.0)
