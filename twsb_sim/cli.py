@@ -22,7 +22,7 @@ from pathlib import Path
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_folder
 from twsb_sim.scenario_files import resolve_scenario
-from twsb_sim.stopping import Terminated, stopping
+from twsb_sim.stopping import Terminated, print_stop, stopping
 
 EXIT_USAGE = 2  # a user mistake: bad file, bad value
 EXIT_FELL = 3  # the robot fell: the run ended early (its frames are still written)
@@ -135,7 +135,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt as error:
         what = "terminated (SIGTERM)" if isinstance(error, Terminated) else "interrupted"
-        print(f"twsb: {what}", file=sys.stderr)
+        print_stop(f"twsb: {what}")
         return EXIT_INTERRUPTED
     except BrokenPipeError:
         # the reader left (| head): say nothing more, and keep Python's exit-time flush

@@ -58,6 +58,22 @@ def stop_within(error: BaseException) -> KeyboardInterrupt | None:
     return None
 
 
+def print_stop(message: str) -> None:
+    """Print ``message`` (what stopped, what was kept) on stderr, on a line of its own.
+
+    A progress bar draws its line without a newline and ends it when it closes. A stop
+    that lands while a bar draws its first line leaves it open (its ``__init__`` never
+    returned, so no ``with`` block closes it), and so does a stop in a loop over a bar
+    outside a ``with``: the cursor is then at the end of the bar's text. End that line
+    first, so the message never trails the bar.
+    """
+    from tqdm import tqdm
+
+    if any(not getattr(bar, "disable", True) for bar in list(tqdm._instances)):
+        sys.stderr.write("\n")
+    print(message, file=sys.stderr)
+
+
 def raise_if_stopped() -> None:
     """Raise the Ctrl-C or SIGTERM received (and perhaps swallowed) so far, if any."""
     if _stop is not None:

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from twsb_sim.staging import staged_file
-from twsb_sim.stopping import Terminated, raise_if_stopped, stopping
+from twsb_sim.stopping import Terminated, print_stop, raise_if_stopped, stopping
 
 
 class _StoppedWhileCollected:
@@ -76,3 +76,29 @@ def test_a_stop_wrapped_in_another_error_is_still_the_stop(stop):
 def test_an_error_with_no_stop_in_it_stays_that_error():
     with pytest.raises(SystemError), stopping():
         raise SystemError("a real one")
+
+
+def _stop_message_lines(capsys) -> list[str]:
+    return capsys.readouterr().err.replace("\r", "\n").splitlines()
+
+
+def test_the_stop_message_never_trails_a_progress_bar_left_open(capsys):
+    from tqdm import tqdm
+
+    # drawn and never closed, as a stop that lands while it draws its first line leaves it
+    bar = tqdm(total=3, desc="SLAM runs", file=sys.stderr)
+    try:
+        print_stop("twsb: interrupted")
+        assert _stop_message_lines(capsys)[-1] == "twsb: interrupted"
+    finally:
+        bar.close()
+
+
+def test_the_stop_message_adds_no_blank_line_after_closed_bars(capsys):
+    from tqdm import tqdm
+
+    with tqdm(total=3, desc="SLAM runs", file=sys.stderr):
+        pass
+    capsys.readouterr()
+    print_stop("twsb: interrupted")
+    assert capsys.readouterr().err == "twsb: interrupted\n"

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from twsb_sim.config_errors import ConfigError
 from twsb_sim.output_paths import output_file, output_folder
-from twsb_sim.stopping import stop_within
+from twsb_sim.stopping import print_stop, stop_within
 
 
 def add_dataset_commands(commands: argparse._SubParsersAction) -> None:
@@ -92,10 +91,9 @@ def _generate(args: argparse.Namespace) -> int:
     except BaseException as error:
         if stop_within(error) is None:  # a Ctrl-C or SIGTERM, perhaps wrapped
             raise
-        print(
+        print_stop(
             f"twsb: interrupted; finished episodes are kept in {args.out}: run the same "
-            "command again to resume",
-            file=sys.stderr,
+            "command again to resume"
         )
         return 130
     print(
