@@ -93,7 +93,11 @@ class StrongLine:
             return None
         scores, segments = detection.segment_scores, detection.segments
         # the strongest gated segment on the down side (the IMU may have chosen the side)
-        on_side = scores.gates & (np.sign(segments.centroids[:, 0]) == detection.down_side)
+        # among those that had a say in it: a face with returns beyond it is no floor line
+        down_side = np.sign(segments.centroids[:, 0]) == detection.down_side
+        on_side = down_side & scores.gates
+        if scores.voters is not None and np.count_nonzero(on_side & scores.voters):
+            on_side &= scores.voters
         if not np.count_nonzero(on_side):
             return None
         # the most new points; of those, the most points: the best measured direction

@@ -160,6 +160,8 @@ class SegmentScores:
             IMU's band (vetoed or not: see :class:`~pvfilter.improved.imu.Attitude`).
         scan_down_side: where the scan alone puts the floor (+1, -1, 0), whatever the IMU
             says: the IMU's sign is checked against it.
+        voters: per segment, it had a say in where the floor is: gated, without returns
+            beyond it unless no such line showed a side (None: the lines were not fitted).
     """
 
     scores: np.ndarray
@@ -172,6 +174,7 @@ class SegmentScores:
     scan_scores: np.ndarray | None = None
     imu_contradicted: bool = False
     scan_down_side: int = 0
+    voters: np.ndarray | None = None
 
 
 def geometry_gates(
@@ -288,13 +291,23 @@ def score_segments(
     voters = gates & ~beyond if flagged else gates
     down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
     if down == 0 and flagged:
-        down, down_tilt = _down_side(gates, new_counts, side, tilt, distances, attitude, params)
+        voters = gates
+        down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
     scan_down = down
     if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,
         # every gated line voting, checks the IMU's sign: counted without the lines with
         # returns beyond them, an IMU of the wrong sign was disowned later, the fourth
         # generator's nose-up IMU set 1 0.756 to 0.742)
         scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
+        if flagged and scan_down == -attitude.down_side:
+            # a contradiction that rests on lines with returns beyond them only (a table
+            # face ahead of a plane nose up, too near to be a ceiling) is no evidence
+            # either way: the scan abstains (a correct IMU was disowned among tables)
+            unflagged, _ = _down_side(
+                gates & ~beyond, new_counts, side, tilt, distances, None, params
+            )
+            if unflagged != scan_down:
+                scan_down = 0
         # a line on the estimate's up side contradicts its sign only where no ceiling can
         # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points
         # than the floor line behind): nearer than IMU_SIGN_CEILING_SHARE of the nearest
@@ -344,7 +357,17 @@ def score_segments(
             if down == 0:
                 down, down_tilt = held.side, held.tilt_rad
     return SegmentScores(
-        score, gates, share, new_counts, tilt, down, down_tilt, scan_score, contradicted, scan_down
+        score,
+        gates,
+        share,
+        new_counts,
+        tilt,
+        down,
+        down_tilt,
+        scan_score,
+        contradicted,
+        scan_down,
+        voters,
     )
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import types
 
 import numpy as np
 import pytest
@@ -22,6 +23,7 @@ from pvfilter.improved.motion import Motion
 from pvfilter.improved.scoring import HeldLine, strongest_confident
 
 from .conftest import HEIGHT_M, room_scan, tilted_scan
+from .test_scoring import line, scored
 
 POSE = (-2.3, 0.0, 0.0)  # m, rad: the wall behind 1.7 m off, the wall ahead 6.3 m
 PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
@@ -254,3 +256,31 @@ def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_n
     standing = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
     assert travelling_line(detection, standing, pvf.params) is None
     assert travelling_line(detection, None, pvf.params) is None
+
+
+def test_a_strong_line_is_the_floor_line_that_chose_the_side_not_a_face_beside_it():
+    # nose down 8 deg: a box's face 0.7 m ahead (new, more points than the floor line)
+    # and the floor line 1.8 m ahead on both sides of it, beyond the face's ends. The
+    # face has returns beyond it and no say in where the floor is; the followed line is
+    # the floor line, at its distance
+    ahead = HEIGHT_M / math.sin(math.radians(8.0))
+    edge = ahead * math.tan(math.atan2(0.2, 0.7))  # where the face's ends hide the floor
+    parts = (
+        line(ahead, -1.0, ahead, -edge, 26),
+        line(0.7, -0.2, 0.7, 0.2, 66),
+        line(ahead, edge, ahead, 1.0, 26),
+    )
+    segments, scores = scored(*parts)
+    face = segments.labels[26 + 33]
+    assert scores.new_counts[face] == max(scores.new_counts)
+    assert scores.down_side == 1 and not scores.voters[face]
+    detection = types.SimpleNamespace(
+        tilted=True,
+        down_side=scores.down_side,
+        plane_tilt_rad=scores.down_tilt_rad,
+        segment_scores=scores,
+        segments=segments,
+        scan=types.SimpleNamespace(stamp=1.0),
+    )
+    strong = StrongLine.of(detection, Motion())
+    assert strong.distance_m == pytest.approx(ahead, abs=0.02)

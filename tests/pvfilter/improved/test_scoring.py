@@ -443,3 +443,28 @@ def test_a_face_with_returns_beyond_it_has_no_say_in_where_the_floor_is():
     assert result.lines.segment_scores.down_side == -1
     assert result.removed[floor].mean() > 0.9
     assert not result.removed[face].any()
+
+
+def test_a_face_with_returns_beyond_it_does_not_contradict_a_correct_imu():
+    # nose up 10 deg, as the IMU says: the floor line behind (cut by the seam), a table's
+    # face 0.9 m ahead with the room's far wall seen beside it. Every gated line votes in
+    # the IMU's sign check, and the face holds the most new points; too near to be a
+    # ceiling, it "can only be the floor". But it has returns beyond it, and without it
+    # the lines agree with the IMU: the scan abstains (six such scans disowned a correct
+    # IMU among tables)
+    behind = HEIGHT_M / math.sin(math.radians(10.0))
+    parts = (
+        line(-behind, 0.0, -behind, -0.6, 25)[1:],
+        line(6.0, -5.0, 6.0, -3.4, 20),
+        line(0.9, -0.5, 0.9, 0.5, 60),
+        line(6.0, 3.4, 6.0, 5.0, 20),
+        line(-behind, 0.6, -behind, 0.0, 25),
+    )
+    new = np.concatenate([np.full(len(part), k % 2 == 0) for k, part in enumerate(parts)])
+    imu = Attitude(math.radians(-10.0), 0.0, math.radians(1.0))
+    segments, result = scored(*parts, new=new, attitude=imu)
+    face = at(segments, 24 + 20 + 30)
+    assert result.new_counts[face] == max(result.new_counts)
+    assert result.down_side == -1
+    assert result.scan_down_side == 0
+    assert not result.voters[face]
