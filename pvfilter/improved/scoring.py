@@ -300,13 +300,16 @@ def score_segments(
         # generator's nose-up IMU set 1 0.756 to 0.742)
         scan_down, scan_tilt = _down_side(gates, new_counts, side, tilt, distances, None, params)
         if flagged and scan_down == -attitude.down_side:
-            # a contradiction that rests on lines with returns beyond them only (a table
-            # face ahead of a plane nose up, too near to be a ceiling) is no evidence
-            # either way: the scan abstains (a correct IMU was disowned among tables)
+            # a contradiction that rests on lines with returns beyond them (a table face
+            # ahead of a plane nose up, too near to be a ceiling), where the other lines
+            # put the floor where the IMU does, is no evidence either way: the scan
+            # abstains (a correct IMU was disowned among tables). Where the other lines
+            # say nothing, it still counts: abstaining there let an IMU of the wrong sign
+            # go on longer (the fourth generator's nose-up corridor, 0.752 to 0.671)
             unflagged, _ = _down_side(
                 gates & ~beyond, new_counts, side, tilt, distances, None, params
             )
-            if unflagged != scan_down:
+            if unflagged == attitude.down_side:
                 scan_down = 0
         # a line on the estimate's up side contradicts its sign only where no ceiling can
         # be at its tilt (a low ceiling ahead of a plane nose up can hold more new points
