@@ -63,15 +63,32 @@ def print_stop(message: str) -> None:
 
     A progress bar draws its line without a newline and ends it when it closes. A stop
     that lands while a bar draws its first line leaves it open (its ``__init__`` never
-    returned, so no ``with`` block closes it), and so does a stop in a loop over a bar
-    outside a ``with``: the cursor is then at the end of the bar's text. End that line
-    first, so the message never trails the bar.
+    returned, so no ``with`` block closes it), and so does a stop while a bar updated by
+    hand is open: the cursor is then at the end of the bar's text. Such bars on stderr are
+    closed first: a bar that was drawn ends its line (and will not be drawn again when it
+    is collected, after the message), one that never finished its first line gets a
+    newline.
     """
     from tqdm import tqdm
 
-    if any(not getattr(bar, "disable", True) for bar in list(tqdm._instances)):
+    with tqdm.get_lock():
+        bars = [bar for bar in list(getattr(tqdm, "_instances", ())) if _on_stderr(bar)]
+    half_drawn = False
+    for bar in bars:
+        if getattr(bar, "disable", True):
+            continue
+        half_drawn |= not hasattr(bar, "last_print_t")  # its __init__ never returned
+        bar.close()
+    if half_drawn:
         sys.stderr.write("\n")
     print(message, file=sys.stderr)
+
+
+def _on_stderr(bar: object) -> bool:
+    """Whether a progress bar writes to this process's stderr (tqdm wraps its stream)."""
+    stream = getattr(bar, "fp", None)
+    stream = getattr(stream, "_wrapped", stream)
+    return stream is sys.stderr or stream is sys.__stderr__
 
 
 def raise_if_stopped() -> None:

@@ -92,12 +92,14 @@ class StrongLine:
         if not detection.tilted or detection.down_side == 0 or np.isnan(tilt):
             return None
         scores, segments = detection.segment_scores, detection.segments
-        # the strongest gated segment on the down side (the IMU may have chosen the side)
-        # among those that had a say in it: a face with returns beyond it is no floor line
-        down_side = np.sign(segments.centroids[:, 0]) == detection.down_side
-        on_side = down_side & scores.gates
-        if scores.voters is not None and np.count_nonzero(on_side & scores.voters):
-            on_side &= scores.voters
+        # the strongest gated segment on the down side (the IMU may have chosen the side),
+        # among those with new points that may say where the floor is (a face with returns
+        # beyond it is no floor line); where there is none such, among them all
+        on_side = scores.gates & (np.sign(segments.centroids[:, 0]) == detection.down_side)
+        if scores.voters is not None:
+            preferred = on_side & scores.voters & (scores.new_counts > 0)
+            if np.count_nonzero(preferred):
+                on_side = preferred
         if not np.count_nonzero(on_side):
             return None
         # the most new points; of those, the most points: the best measured direction

@@ -158,10 +158,14 @@ class SegmentScores:
         scan_scores: per segment, the score from the scan alone (before the IMU's cue).
         imu_contradicted: a line the scan alone scores above ``p_th`` lies beyond the
             IMU's band (vetoed or not: see :class:`~pvfilter.improved.imu.Attitude`).
-        scan_down_side: where the scan alone puts the floor (+1, -1, 0), whatever the IMU
-            says: the IMU's sign is checked against it.
-        voters: per segment, it had a say in where the floor is: gated, without returns
-            beyond it unless no such line showed a side (None: the lines were not fitted).
+        scan_down_side: where the scan alone puts the floor (+1, -1, 0), every gated line
+            voting: the IMU's sign is checked against it. With the IMU, 0 also where the
+            scan abstains: its disagreement rests on lines with returns beyond them, and
+            the others agree with the IMU.
+        voters: per segment, it may say where the floor is: gated and without returns
+            beyond it, or every gated line where none of those showed a side (None: the
+            lines were not fitted). Where the IMU or a held line chose the side, these are
+            the lines that could have.
     """
 
     scores: np.ndarray

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gc
+import io
 import sys
 
 import pytest
@@ -85,20 +86,34 @@ def _stop_message_lines(capsys) -> list[str]:
 def test_the_stop_message_never_trails_a_progress_bar_left_open(capsys):
     from tqdm import tqdm
 
-    # drawn and never closed, as a stop that lands while it draws its first line leaves it
+    # drawn and never closed, as a bar updated by hand outside a with block is left
     bar = tqdm(total=3, desc="SLAM runs", file=sys.stderr)
-    try:
-        print_stop("twsb: interrupted")
-        assert _stop_message_lines(capsys)[-1] == "twsb: interrupted"
-    finally:
-        bar.close()
+    print_stop("twsb: interrupted")
+    del bar
+    gc.collect()  # nor is the bar drawn again after the message when it is collected
+    assert _stop_message_lines(capsys)[-1] == "twsb: interrupted"
 
 
-def test_the_stop_message_adds_no_blank_line_after_closed_bars(capsys):
+def test_the_stop_message_never_trails_a_bar_stopped_in_its_first_line(capsys):
+    from tqdm import tqdm
+
+    # a stop that lands while a bar draws its first line: its text is out, its
+    # __init__ never returned (closing it then draws nothing)
+    bar = tqdm(total=3, desc="SLAM runs", file=sys.stderr)
+    del bar.last_print_t
+    print_stop("twsb: interrupted")
+    assert _stop_message_lines(capsys)[-1] == "twsb: interrupted"
+    assert bar.disable  # closed: not drawn again when collected
+
+
+def test_the_stop_message_adds_no_blank_line_after_closed_bars_or_on_other_streams(capsys):
     from tqdm import tqdm
 
     with tqdm(total=3, desc="SLAM runs", file=sys.stderr):
         pass
+    elsewhere = tqdm(total=3, desc="elsewhere", file=io.StringIO())  # open, not on stderr
     capsys.readouterr()
     print_stop("twsb: interrupted")
     assert capsys.readouterr().err == "twsb: interrupted\n"
+    assert not elsewhere.disable
+    elsewhere.close()

@@ -6,6 +6,10 @@ import math
 
 import numpy as np
 
+from pvfilter.improved import ImprovedParams
+from pvfilter.improved import segment_scan as segment_points
+from pvfilter.improved.scoring import SegmentScores, score_segments
+from pvfilter.improved.segmentation import Segments
 from pvfilter.scan import Scan
 from pvfilter.synthetic import (
     BEAMS_PER_TURN,
@@ -17,6 +21,29 @@ from pvfilter.synthetic import (
 
 HEIGHT_M = 0.25  # the scan plane's height above the floor, m
 ROOM = room_segments(4.0, 4.0, 2.5, 2.5)  # world frame, m: 8 m x 5 m around the origin
+PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+INCREMENT = math.radians(0.5)  # rad: between the points of the lists that scored() takes
+
+
+def line(x0: float, y0: float, x1: float, y1: float, count: int = 40) -> np.ndarray:
+    """``count`` points from (x0, y0) to (x1, y1), sensor frame, m."""
+    return np.column_stack((np.linspace(x0, x1, count), np.linspace(y0, y1, count)))
+
+
+def scored(
+    *parts: np.ndarray,
+    new: np.ndarray | None = None,
+    params: ImprovedParams = PARAMS,
+    attitude=None,
+    static=None,
+    through: np.ndarray | None = None,
+) -> tuple[Segments, SegmentScores]:
+    """The segments of ``parts`` (point lists in beam order) and their scores; every
+    point new unless ``new`` says otherwise."""
+    points = np.concatenate(parts)
+    segments = segment_points(points, np.arange(len(points)), INCREMENT, params)
+    new = np.ones(len(points), bool) if new is None else new
+    return segments, score_segments(segments, new, 0.0, attitude, params, static, through)
 
 
 def to_sensor(segments: np.ndarray, pose: tuple[float, float, float]) -> np.ndarray:

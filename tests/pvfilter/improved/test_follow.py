@@ -22,8 +22,7 @@ from pvfilter.improved.geometry import line_lean
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.scoring import HeldLine, strongest_confident
 
-from .conftest import HEIGHT_M, room_scan, tilted_scan
-from .test_scoring import line, scored
+from .conftest import HEIGHT_M, line, room_scan, scored, tilted_scan
 
 POSE = (-2.3, 0.0, 0.0)  # m, rad: the wall behind 1.7 m off, the wall ahead 6.3 m
 PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)

@@ -22,21 +22,7 @@ from pvfilter.improved.scoring import (
 )
 from pvfilter.synthetic import room_segments
 
-from .conftest import HEIGHT_M, ROOM, tilted_scan
-
-PARAMS = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
-INCREMENT = math.radians(0.5)
-
-
-def line(x0, y0, x1, y1, count=40):
-    return np.column_stack((np.linspace(x0, x1, count), np.linspace(y0, y1, count)))
-
-
-def scored(*parts, new=None, params=PARAMS, attitude=None, static=None, through=None):
-    points = np.concatenate(parts)
-    segments = segment_scan(points, np.arange(len(points)), INCREMENT, params)
-    new = np.ones(len(points), bool) if new is None else new
-    return segments, score_segments(segments, new, 0.0, attitude, params, static, through)
+from .conftest import HEIGHT_M, INCREMENT, PARAMS, ROOM, line, scored, tilted_scan
 
 
 def at(segments, point):
@@ -445,26 +431,41 @@ def test_a_face_with_returns_beyond_it_has_no_say_in_where_the_floor_is():
     assert not result.removed[face].any()
 
 
-def test_a_face_with_returns_beyond_it_does_not_contradict_a_correct_imu():
-    # nose up 10 deg, as the IMU says: the floor line behind (cut by the seam), a table's
-    # face 0.9 m ahead with the room's far wall seen beside it. Every gated line votes in
-    # the IMU's sign check, and the face holds the most new points; too near to be a
-    # ceiling, it "can only be the floor". But it has returns beyond it, and without it
-    # the lines agree with the IMU: the scan abstains (six such scans disowned a correct
-    # IMU among tables)
+def _table_face_nose_up(floor_behind: bool):
+    """Nose up 10 deg, as the IMU says: a table's face 0.9 m ahead with the room's far
+    wall seen beside it, and (or not) the floor line behind, cut by the seam."""
     behind = HEIGHT_M / math.sin(math.radians(10.0))
-    parts = (
+    floor_halves = (
         line(-behind, 0.0, -behind, -0.6, 25)[1:],
+        line(-behind, 0.6, -behind, 0.0, 25),
+    )
+    room = (
         line(6.0, -5.0, 6.0, -3.4, 20),
         line(0.9, -0.5, 0.9, 0.5, 60),
         line(6.0, 3.4, 6.0, 5.0, 20),
-        line(-behind, 0.6, -behind, 0.0, 25),
     )
-    new = np.concatenate([np.full(len(part), k % 2 == 0) for k, part in enumerate(parts)])
+    parts = (floor_halves[0], *room, floor_halves[1]) if floor_behind else room
+    new = np.concatenate([np.full(len(part), len(part) != 20) for part in parts])
     imu = Attitude(math.radians(-10.0), 0.0, math.radians(1.0))
     segments, result = scored(*parts, new=new, attitude=imu)
-    face = at(segments, 24 + 20 + 30)
+    face = at(segments, (24 if floor_behind else 0) + 20 + 30)
     assert result.new_counts[face] == max(result.new_counts)
-    assert result.down_side == -1
+    assert result.down_side == imu.down_side == -1
+    return result, face
+
+
+def test_a_face_with_returns_beyond_it_does_not_contradict_a_correct_imu():
+    # every gated line votes in the IMU's sign check, and the face holds the most new
+    # points; too near to be a ceiling, it "can only be the floor". But it has returns
+    # beyond it, and without it the floor line behind agrees with the IMU: the scan
+    # abstains (six such scans disowned a correct IMU among tables)
+    result, face = _table_face_nose_up(floor_behind=True)
     assert result.scan_down_side == 0
     assert not result.voters[face]
+
+
+def test_a_face_with_returns_beyond_it_still_contradicts_where_no_other_line_agrees():
+    # no other line shows a side: the face's vote counts (abstaining there kept an IMU
+    # of the wrong sign in use longer)
+    result, _ = _table_face_nose_up(floor_behind=False)
+    assert result.scan_down_side == 1
