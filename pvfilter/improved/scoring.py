@@ -310,9 +310,8 @@ def score_segments(
             # abstains (a correct IMU was disowned among tables). Where the other lines
             # say nothing, it still counts: abstaining there let an IMU of the wrong sign
             # go on longer (the fourth generator's nose-up corridor, 0.752 to 0.671)
-            unflagged, _ = _down_side(
-                gates & ~beyond, new_counts, side, tilt, distances, None, params
-            )
+            # (with the IMU's side taken, the voters are the gated lines without them)
+            unflagged, _ = _down_side(voters, new_counts, side, tilt, distances, None, params)
             if unflagged == attitude.down_side:
                 scan_down = 0
         # a line on the estimate's up side contradicts its sign only where no ceiling can

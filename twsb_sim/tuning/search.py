@@ -121,26 +121,25 @@ def search(
         log.tried.append((evaluate(params), params))
     best_value, best_params = log.best
     best_unit, step = unit_of(best_params), 0.25
-    with tqdm(
-        total=refine_rounds, desc="pattern search", unit="sweep", disable=not progress
-    ) as bar:
-        for _ in range(refine_rounds):
-            gained = False
-            for i in range(len(SPACE)):
-                for sign in (1.0, -1.0):
-                    trial = best_unit.copy()
-                    trial[i] = min(max(trial[i] + sign * step, 0.0), 1.0)
-                    params = params_at(base, trial)
-                    if params == best_params:
-                        continue  # an integer that did not move, or a bound
-                    value = evaluate(params)
-                    log.tried.append((value, params))
-                    if value > best_value:
-                        best_value, best_params, best_unit, gained = value, params, trial, True
-                        break
-            bar.update()
-            if not gained:
-                step /= 2.0
-                if step < 0.25 / 8:
+    bar = tqdm(total=refine_rounds, desc="pattern search", unit="sweep", disable=not progress)
+    for _ in range(refine_rounds):
+        gained = False
+        for i in range(len(SPACE)):
+            for sign in (1.0, -1.0):
+                trial = best_unit.copy()
+                trial[i] = min(max(trial[i] + sign * step, 0.0), 1.0)
+                params = params_at(base, trial)
+                if params == best_params:
+                    continue  # an integer that did not move, or a bound
+                value = evaluate(params)
+                log.tried.append((value, params))
+                if value > best_value:
+                    best_value, best_params, best_unit, gained = value, params, trial, True
                     break
+        bar.update()
+        if not gained:
+            step /= 2.0
+            if step < 0.25 / 8:
+                break
+    bar.close()
     return log

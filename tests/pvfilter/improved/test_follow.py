@@ -244,8 +244,8 @@ def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_n
     directions = np.full(len(scan), math.atan2(-normal_x, normal_y))  # along the line
     drove = Motion(tx_m=-0.12)  # the sensor 0.12 m on since the earlier scan
     travelled = WorldStatic(ranges, ranges, directions, layout, drove, STATIC_TOLERANCE_M)
-    line = travelling_line(detection, travelled, pvf.params)
-    assert line is not None and line[on_floor].mean() > 0.9 and not line[~on_floor].any()
+    moving = travelling_line(detection, travelled, pvf.params)
+    assert moving is not None and moving[on_floor].mean() > 0.9 and not moving[~on_floor].any()
     # a wall 0.12 m farther off in the earlier scan, as the line's place predicts it
     facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
     stayed = WorldStatic(
