@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -18,7 +19,7 @@ from pvfilter.contract import ROBOT_INPUTS
 from pvfilter.improved import ImprovedParams
 from pvfilter.paper import CLUSTERING_MODES, FilterParams
 from pvfilter.params_file import load_params
-from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
+from pvfilter.registry import ROBOT_GEOMETRY_FIELDS, FilterEntry, entry_for_params, filter_entry
 
 # the paper's Table I symbols are flags of their own (--d-th ...); the others are switches
 SYMBOLS = [f for f in dataclasses.fields(FilterParams) if type(f.default) in (int, float)]
@@ -87,13 +88,53 @@ def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
     return entry, params
 
 
-def robot_geometry(args: argparse.Namespace, entry: FilterEntry, params: Any) -> dict[str, float]:
-    """``--lidar-height`` as robot geometry, for filters whose parameters hold it."""
-    if args.lidar_height is None:
-        return {}
-    if params is None or "lidar_height_m" not in {f.name for f in dataclasses.fields(params)}:
-        raise ValueError(f"--lidar-height: filter {entry.name!r} does not use the LiDAR's height")
-    return {"lidar_height_m": args.lidar_height}
+def robot_geometry(
+    args: argparse.Namespace, entry: FilterEntry, params: Any, stated: Mapping[str, float]
+) -> dict[str, float]:
+    """The robot geometry to tell the filter: what the scan file states (``stated``), for
+    the fields its parameters hold and ``--set`` leaves alone, then ``--lidar-height``.
+
+    A file states the robot that recorded it, so its geometry wins over a parameter file's,
+    as in ``pvfilter eval-labels``; a value set on the command line wins over both.
+
+    Raises:
+        ValueError: ``--lidar-height`` for a filter that does not use the LiDAR's height.
+    """
+    takes = set() if params is None else {f.name for f in dataclasses.fields(params)}
+    set_by_hand = {setting(text)[0] for text in args.set or ()}
+    geometry = {k: v for k, v in stated.items() if k in takes and k not in set_by_hand}
+    if args.lidar_height is not None:
+        if "lidar_height_m" not in takes:
+            raise ValueError(
+                f"--lidar-height: filter {entry.name!r} does not use the LiDAR's height"
+            )
+        geometry["lidar_height_m"] = args.lidar_height
+    return geometry
+
+
+def geometry_note(
+    command: str, args: argparse.Namespace, params: Any, geometry: Mapping[str, float]
+) -> str:
+    """A line for ``command``'s output on the robot geometry the filter was told: the
+    values told, or, where neither the input nor the options state any, the defaults it
+    took ("" for a filter without geometry, or one whose parameter file or ``--set`` holds
+    it). The improved filter's scores move with the LiDAR's height: a user who never set it
+    should know."""
+    takes = set() if params is None else {f.name for f in dataclasses.fields(params)}
+    fields = [name for name in ROBOT_GEOMETRY_FIELDS if name in takes]
+    if not fields:
+        return ""
+    if geometry:
+        told = ", ".join(f"{name} {value:.3f}" for name, value in geometry.items())
+        return f"{command}: told the robot's geometry: {told} (m)"
+    set_by_hand = {setting(text)[0] for text in args.set or ()}
+    if args.params or set_by_hand & set(fields):
+        return ""  # the user's parameters hold it
+    defaults = ", ".join(f"{name} {getattr(params, name):.3f}" for name in fields)
+    return (
+        f"{command}: no robot geometry given: the filter took its defaults, {defaults} (m); "
+        "set yours with --lidar-height M or --set NAME=VALUE"
+    )
 
 
 def robot_inputs(arrays: dict[str, np.ndarray], count: int, source: str) -> list[dict[str, Any]]:

@@ -5,6 +5,7 @@ import pytest
 
 from pvfilter import PitchVariationFilter
 from pvfilter.cli import main
+from pvfilter.improved import ImprovedPitchVariationFilter
 from pvfilter.io import arrays_from_scans
 from pvfilter.synthetic import room_sequence
 
@@ -87,3 +88,59 @@ def test_a_labelled_file_without_scans_is_filtered_without_a_score(scan_file, tm
     out = capsys.readouterr().out
     assert "0 scans" in out and "labels" not in out
     assert (tmp_path / "out.npz").exists()
+
+
+@pytest.fixture
+def told_heights(monkeypatch):
+    """The (lidar, axle, ahead) geometry each improved filter the command builds is given."""
+    told = []
+    build = ImprovedPitchVariationFilter.__init__
+
+    def spy(self, params=None, *args, **kwargs):
+        build(self, params, *args, **kwargs)
+        told.append((self.params.lidar_height_m, self.params.axle_height_m,
+                     self.params.lidar_ahead_m))  # fmt: skip
+
+    monkeypatch.setattr(ImprovedPitchVariationFilter, "__init__", spy)
+    return told
+
+
+@pytest.fixture
+def tall_robot_file(tmp_path):
+    """Scans from a robot that states its geometry: LiDAR 0.5 m up, axle 0.1 m, 0.02 m ahead."""
+    arrays = arrays_from_scans(room_sequence(10).scans)
+    arrays.update(lidar_height_m=np.array(0.5), axle_height_m=0.1, lidar_ahead_m=0.02)
+    path = tmp_path / "tall.npz"
+    np.savez(path, **arrays)
+    return path
+
+
+def test_the_geometry_a_file_states_is_told_to_the_filter(tall_robot_file, tmp_path, capsys,
+                                                          told_heights):  # fmt: skip
+    assert main([str(tall_robot_file), str(tmp_path / "out.npz"), "--improved"]) == 0
+    assert told_heights == [(0.5, 0.1, 0.02)]
+    printed = capsys.readouterr().out
+    assert "told the robot's geometry: lidar_height_m 0.500, axle_height_m 0.100" in printed
+
+
+def test_the_options_win_over_the_files_geometry(tall_robot_file, tmp_path, told_heights):
+    argv = [str(tall_robot_file), str(tmp_path / "out.npz"), "--improved"]
+    assert main([*argv, "--lidar-height", "0.4", "--set", "axle_height_m=0.05"]) == 0
+    assert told_heights == [(0.4, 0.05, 0.02)]
+
+
+def test_a_file_without_geometry_says_the_filter_took_its_defaults(scan_file, tmp_path, capsys,
+                                                                   told_heights):  # fmt: skip
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--improved"]) == 0
+    assert told_heights == [(0.25, 0.08, 0.0)]
+    printed = capsys.readouterr().out
+    assert "no robot geometry given: the filter took its defaults, lidar_height_m 0.250" in printed
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--improved", "--set",
+                 "lidar_height_m=0.3"]) == 0  # fmt: skip
+    assert "robot geometry" not in capsys.readouterr().out  # set by hand: nothing to say
+
+
+def test_a_filter_without_geometry_runs_on_a_file_that_states_it(tall_robot_file, tmp_path, capsys):
+    assert main([str(tall_robot_file), str(tmp_path / "out.npz")]) == 0  # the paper's filter
+    printed = capsys.readouterr().out
+    assert "robot geometry" not in printed and "robot's geometry" not in printed
