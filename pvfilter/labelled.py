@@ -173,7 +173,10 @@ def geometry_of(arrays: Mapping[str, np.ndarray], source: str) -> dict[str, floa
     for key in ROBOT_GEOMETRY_FIELDS:
         if key not in arrays:
             continue
-        value = np.asarray(arrays[key], dtype=np.float64)
+        try:
+            value = np.asarray(arrays[key], dtype=np.float64)
+        except (TypeError, ValueError):  # (text, say)
+            value = np.array([np.nan])
         if value.size != 1 or not np.isfinite(value).all():
             raise ValueError(f"{source}: {key}: must be one finite number, m")
         geometry[key] = float(value.reshape(()))

@@ -45,8 +45,8 @@ FRAME_ARRAYS = {
     "imu_samples_per_frame, odometry_samples_per_frame": "int64[K]: how many arrived per frame",
     "angle_min, angle_increment, range_min, range_max, time_increment, scan_time": "scalars; "
     "beam i of a scan was measured at stamps + i * time_increment",
-    "lidar_height_m, axle_height_m, lidar_ahead_m": "scalars, m: the robot's geometry, as the "
-    "filter in the loop was told it (the pvfilter command tells the filters it too)",
+    "lidar_height_m, axle_height_m, lidar_ahead_m": "scalars, m: the scenario robot's geometry, "
+    "as filters take it (the pvfilter command tells them it)",
 }
 _SENSOR_FIELDS = ("attitude_rpy_rad", "pose_base_in_odom", "pose_lidar_in_odom", "twist")
 
