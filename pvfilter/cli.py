@@ -19,10 +19,16 @@ from pathlib import Path
 
 import numpy as np
 
-from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry, robot_inputs
+from pvfilter.cli_options import (
+    add_filter_options,
+    chosen_filter,
+    filter_options,
+    geometry_note,
+    robot_inputs,
+)
 from pvfilter.exits import run_command
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
-from pvfilter.labelled import scan_labels, truth_of
+from pvfilter.labelled import geometry_of, scan_labels, truth_of
 from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
 
@@ -82,12 +88,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _filter_file(args: argparse.Namespace) -> int:
-    entry, params = chosen_filter(args)
-    geometry = robot_geometry(args, entry, params)
+    filter_options(args)  # the options' own mistakes, before the input is read
     source, output = Path(args.input), Path(args.output)
     _check_output(source, output)
     arrays = read_arrays(source)
     scans = scans_from_arrays(arrays, source=str(source))
+    stated = geometry_of(arrays, str(source))  # the robot that recorded the file
+    entry, params = chosen_filter(args, stated, str(source))
     # labels the score needs, checked before the work: a bad one ends the command first
     labels = None
     if "labels" in arrays:
@@ -98,7 +105,7 @@ def _filter_file(args: argparse.Namespace) -> int:
         with ThreadedPitchVariationFilter(params) as pvf:
             results = list(pvf.process_stream(scans))
     else:
-        scan_filter = entry.make(params, robot_geometry=geometry)
+        scan_filter = entry.make(params)
         results = [scan_filter.process(s, **i) for s, i in zip(scans, inputs, strict=True)]
     elapsed = time.perf_counter() - start
     output.parent.mkdir(parents=True, exist_ok=True)
@@ -113,6 +120,9 @@ def _filter_file(args: argparse.Namespace) -> int:
         + (f" with {', '.join(used)}" if used else "")
         + f", removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
+    note = geometry_note("pvfilter", args, params, stated)
+    if note:
+        print(note)
     if labels is not None and scans:
         print(_label_score(labels, scans, results))
     print(f"pvfilter: wrote {output}")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -17,8 +18,8 @@ from pvfilter import toml_reader
 from pvfilter.contract import ROBOT_INPUTS
 from pvfilter.improved import ImprovedParams
 from pvfilter.paper import CLUSTERING_MODES, FilterParams
-from pvfilter.params_file import load_params
-from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
+from pvfilter.params_file import load_params, read_params_file
+from pvfilter.registry import ROBOT_GEOMETRY_FIELDS, FilterEntry, entry_for_params, filter_entry
 
 # the paper's Table I symbols are flags of their own (--d-th ...); the others are switches
 SYMBOLS = [f for f in dataclasses.fields(FilterParams) if type(f.default) in (int, float)]
@@ -50,8 +51,10 @@ def add_filter_options(parser: argparse.ArgumentParser) -> None:
     parser.set_defaults(threaded=False)
 
 
-def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
-    """The filter and parameters the options ask for.
+def filter_options(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str, Any]]:
+    """The filter the options name, its parameters (a parameter file's, or its defaults)
+    and the values the options replace, checked by name: what can be told before the
+    input is read.
 
     Raises:
         ValueError: options that contradict each other or name no parameter of the filter.
@@ -75,25 +78,106 @@ def chosen_filter(args: argparse.Namespace) -> tuple[FilterEntry, Any]:
     fields.update(dict(setting(text) for text in args.set or ()))
     if args.threaded and entry.name != "paper":
         raise ValueError(f"--threaded: the two-thread form is the paper filter's, not {entry.name}")
-    if fields:
-        if params is None:
-            raise ValueError(f"filter {entry.name!r} takes no parameters")
-        known = {f.name for f in dataclasses.fields(params)}
-        for key in fields:
-            if key not in known:
-                flag = key.replace("_", "-")
-                raise ValueError(f"--{flag}: filter {entry.name!r} has no parameter {key}")
-        params = dataclasses.replace(params, **fields)
-    return entry, params
-
-
-def robot_geometry(args: argparse.Namespace, entry: FilterEntry, params: Any) -> dict[str, float]:
-    """``--lidar-height`` as robot geometry, for filters whose parameters hold it."""
-    if args.lidar_height is None:
-        return {}
-    if params is None or "lidar_height_m" not in {f.name for f in dataclasses.fields(params)}:
+    if fields and params is None:
+        raise ValueError(f"filter {entry.name!r} takes no parameters")
+    for key in fields:
+        if key not in _takes(params):
+            flag = key.replace("_", "-")
+            raise ValueError(f"--{flag}: filter {entry.name!r} has no parameter {key}")
+    if args.lidar_height is not None and "lidar_height_m" not in _takes(params):
         raise ValueError(f"--lidar-height: filter {entry.name!r} does not use the LiDAR's height")
-    return {"lidar_height_m": args.lidar_height}
+    return entry, params, fields
+
+
+def chosen_filter(
+    args: argparse.Namespace, stated: Mapping[str, float] | None = None, source: str = ""
+) -> tuple[FilterEntry, Any]:
+    """The filter and parameters the options ask for (:func:`filter_options`), with the
+    robot geometry the input ``source`` states (``stated``; see :func:`robot_geometry`),
+    all applied at once: a value checked against another (the axle's height against the
+    LiDAR's) is checked against the one the filter runs with.
+
+    Raises:
+        ValueError: as :func:`filter_options`; a value out of its bounds; the geometry the
+            input states, where the parameters cannot take it (naming ``source``).
+        OSError: the parameter file cannot be read.
+    """
+    entry, params, fields = filter_options(args)
+    geometry = robot_geometry(args, params, stated or {})
+    if not (fields or geometry):
+        return entry, params
+    try:
+        return entry, dataclasses.replace(params, **{**fields, **geometry})
+    except ValueError as error:
+        from_input = {k: v for k, v in (stated or {}).items() if geometry.get(k) == v}
+        if not from_input:
+            raise
+        told = ", ".join(f"{k} {v:g}" for k, v in from_input.items())
+        raise ValueError(f"{source}: with the robot geometry it states ({told}): {error}") from None
+
+
+def robot_geometry(
+    args: argparse.Namespace, params: Any, stated: Mapping[str, float]
+) -> dict[str, float]:
+    """The robot geometry to tell the filter: what the input states (``stated``), for the
+    fields its parameters hold and ``--set`` leaves alone, then ``--lidar-height``.
+
+    An input states the robot that recorded it, so its geometry wins over a parameter
+    file's, as in ``pvfilter eval-labels``; a value set on the command line wins over both.
+
+    ``--lidar-height`` is checked by :func:`filter_options`.
+    """
+    takes = _takes(params)
+    geometry = {k: v for k, v in stated.items() if k in takes and k not in _set_by_hand(args)}
+    if args.lidar_height is not None:
+        geometry["lidar_height_m"] = args.lidar_height
+    return geometry
+
+
+def geometry_note(
+    command: str, args: argparse.Namespace, params: Any, stated: Mapping[str, float]
+) -> str:
+    """A line for ``command``'s output on the robot geometry the filter runs with, and
+    where each value came from: the scan file (``stated``), the options, the parameter
+    file or the filter's defaults ("" for a filter without geometry). The improved
+    filter's scores move with the LiDAR's height: a user who never set it should know."""
+    fields = [name for name in ROBOT_GEOMETRY_FIELDS if name in _takes(params)]
+    if not fields:
+        return ""
+    by_hand = _set_by_hand(args) | ({"lidar_height_m"} if args.lidar_height is not None else set())
+    in_file = set()
+    if args.params:
+        table = read_params_file(args.params)
+        in_file = set(table.get(table.get("filter"), {}))
+    origins: dict[str, list[str]] = {}
+    for name in fields:
+        if name in by_hand:
+            origin = "the options"
+        elif name in stated:
+            origin = "the file"
+        elif name in in_file:
+            origin = "the parameter file"
+        else:
+            origin = "defaults"
+        origins.setdefault(origin, []).append(f"{name} {getattr(params, name):.3f}")
+    if list(origins) == ["defaults"]:
+        return (
+            f"{command}: no robot geometry given: the filter took its defaults, "
+            f"{', '.join(origins['defaults'])} (m); set yours with --lidar-height M or "
+            "--set NAME=VALUE"
+        )
+    parts = [f"from {origin}: {', '.join(values)}" for origin, values in origins.items()]
+    return f"{command}: robot geometry (m) " + "; ".join(parts).replace("from defaults", "defaults")
+
+
+def _takes(params: Any) -> set[str]:
+    """The parameter names of ``params`` (none for a filter without parameters)."""
+    return set() if params is None else {f.name for f in dataclasses.fields(params)}
+
+
+def _set_by_hand(args: argparse.Namespace) -> set[str]:
+    """The parameters ``--set`` names."""
+    return {setting(text)[0] for text in args.set or ()}
 
 
 def robot_inputs(arrays: dict[str, np.ndarray], count: int, source: str) -> list[dict[str, Any]]:

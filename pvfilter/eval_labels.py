@@ -139,6 +139,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="read every return beyond M metres as no echo, and M as range_max, after "
         "--range-noise: a scanner that reaches less far (default: the files' range_max)",
     )
+    parser.add_argument(
+        "--ignore-geometry",
+        action="store_true",
+        help="tell the filters none of the robot geometry the files state (lidar_height_m "
+        "...): a user who did not set it, so the filters take their defaults",
+    )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
     return parser
 
@@ -209,6 +215,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 every=args.every,
                 beam_stride=args.beam_stride,
                 range_max_m=args.range_max,
+                ignore_geometry=args.ignore_geometry,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -302,6 +309,7 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
         "every": args.every,
         "beam_stride": args.beam_stride,
         "range_max_m": args.range_max,
+        "ignore_geometry": args.ignore_geometry,
         "target_auc": args.target,
         "summary": summaries,
     }
@@ -347,6 +355,8 @@ def _scanner_changes(args: argparse.Namespace) -> str:
         changes += f" Every beam without an echo reads {args.no_echo_reads}."
     if args.imu_nose_up:
         changes += " The IMU's pitch is negated (positive nose up)."
+    if args.ignore_geometry:
+        changes += " The robot geometry the files state is not told to the filters."
     if args.angle_jitter > 0.0:
         changes += (
             f" Each scan's angle_min moved within {args.angle_jitter / 2:g} beam either way "

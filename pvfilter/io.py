@@ -22,7 +22,8 @@ key                       shape       meaning
 ``pose_sensor_in_odom``   (m, 3)      optional robot input: the LiDAR's odometry pose
                                       ``(x m, y m, yaw rad)``
 ``lidar_height_m``        ()          optional robot geometry, m (also ``axle_height_m``,
-                                      ``lidar_ahead_m``): ``eval-labels`` tells the filters
+                                      ``lidar_ahead_m``): the ``pvfilter`` command and
+                                      ``eval-labels`` tell the filters that take it
 ========================  ==========  =====================================================
 
 The output file holds every input array unchanged except ``ranges``, which holds the

@@ -173,7 +173,10 @@ def geometry_of(arrays: Mapping[str, np.ndarray], source: str) -> dict[str, floa
     for key in ROBOT_GEOMETRY_FIELDS:
         if key not in arrays:
             continue
-        value = np.asarray(arrays[key], dtype=np.float64)
+        try:
+            value = np.asarray(arrays[key], dtype=np.float64)
+        except (TypeError, ValueError):  # (text, say)
+            value = np.array([np.nan])
         if value.size != 1 or not np.isfinite(value).all():
             raise ValueError(f"{source}: {key}: must be one finite number, m")
         geometry[key] = float(value.reshape(()))
@@ -362,6 +365,7 @@ def evaluate_labelled(
     every: int = 1,
     beam_stride: int = 1,
     range_max_m: float | None = None,
+    ignore_geometry: bool = False,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -398,6 +402,8 @@ def evaluate_labelled(
         range_max_m: every return beyond this range reads no echo, after the range noise
             (None: the file's reach): a scanner that reaches less far, and measures its
             noisy ranges against it (:func:`with_range_max`).
+        ignore_geometry: the robot geometry the file states is not told to the filter,
+            which takes its own values (a user who did not set them).
 
     Returns:
         The report; None when the file holds no scans.
@@ -442,7 +448,8 @@ def evaluate_labelled(
         scans = with_angle_jitter(scans, angle_jitter_beams)
     truth = truth_of(labels, scans)
     fields = dict(fields or {})
-    geometry = {k: v for k, v in geometry_of(arrays, source).items() if k not in fields}
+    stated = {} if ignore_geometry else geometry_of(arrays, source)
+    geometry = {k: v for k, v in stated.items() if k not in fields}
     takes = (
         set()
         if entry.params_type is None

@@ -56,7 +56,12 @@ def _add_run_parser(commands: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from twsb_sim.comparison import FilterComparison
-    from twsb_sim.filter_args import compared_filters, filter_from_args, operating_threshold
+    from twsb_sim.filter_args import (
+        compared_filters,
+        filter_from_args,
+        operating_threshold,
+        robot_geometry,
+    )
     from twsb_sim.frame_writer import FrameWriter
     from twsb_sim.rerun_log.recording import rerun_sink, wait_while_serving
     from twsb_sim.runner import run_scenario
@@ -70,7 +75,7 @@ def _run(args: argparse.Namespace) -> int:
         output_folder(args.out)
     sinks = []
     if args.out is not None:
-        sinks.append(FrameWriter(args.out, scenario_file=path))
+        sinks.append(FrameWriter(args.out, path, robot_geometry(scenario)))
     scan_filter = filter_from_args(args, scenario)
     compared = compared_filters(args, scenario, scan_filter)
     if compared:  # first, so its counts are in the summary the other sinks write

@@ -45,6 +45,8 @@ FRAME_ARRAYS = {
     "imu_samples_per_frame, odometry_samples_per_frame": "int64[K]: how many arrived per frame",
     "angle_min, angle_increment, range_min, range_max, time_increment, scan_time": "scalars; "
     "beam i of a scan was measured at stamps + i * time_increment",
+    "lidar_height_m, axle_height_m, lidar_ahead_m": "scalars, m: the scenario robot's geometry, "
+    "as filters take it (the pvfilter command tells them it)",
 }
 _SENSOR_FIELDS = ("attitude_rpy_rad", "pose_base_in_odom", "pose_lidar_in_odom", "twist")
 
@@ -58,9 +60,15 @@ def _atomic_write(path: Path, write: Any) -> None:
 class FrameWriter:
     """A sink that keeps every frame and writes the run folder when the run ends."""
 
-    def __init__(self, out_dir: str | Path, scenario_file: str | Path | None = None) -> None:
+    def __init__(
+        self,
+        out_dir: str | Path,
+        scenario_file: str | Path | None = None,
+        robot_geometry: dict[str, float] | None = None,
+    ) -> None:
         self.out_dir = Path(out_dir)
         self.scenario_file = Path(scenario_file) if scenario_file else None
+        self.robot_geometry = dict(robot_geometry or {})  # written beside the scans, m
         self._frames: list[Frame] = []
         self._removed: list[np.ndarray] = []
 
@@ -99,6 +107,8 @@ class FrameWriter:
         }
         for name in PER_SCAN_KEYS:  # the LaserScan intrinsics, as the pvfilter command reads them
             arrays[name] = np.float64(getattr(scan, name))
+        for name, value in self.robot_geometry.items():  # so offline runs see the same robot
+            arrays[name] = np.float64(value)
         if self._removed:
             arrays["removed"] = np.stack(self._removed)
         for name, values in truth_arrays([f.truth for f in self._frames]).items():

@@ -32,7 +32,7 @@ from pvfilter.bag.outputs import open_output
 from pvfilter.bag.progress import Progress
 from pvfilter.bag.staging import staged_output
 from pvfilter.bag.wire import read_scan
-from pvfilter.cli_options import add_filter_options, chosen_filter, robot_geometry
+from pvfilter.cli_options import add_filter_options, chosen_filter, geometry_note
 from pvfilter.contract import ScanFilter
 from pvfilter.exits import run_command
 from pvfilter.scan import Scan
@@ -82,7 +82,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def filter_bag(args: argparse.Namespace) -> int:
     """Filter the bag the options name and write the output bag (see the module docstring)."""
     entry, params = chosen_filter(args)
-    scan_filter = entry.make(params, robot_geometry=robot_geometry(args, entry, params))
+    scan_filter = entry.make(params)  # (a bag states no robot geometry: the options may)
     source, out = Path(args.input), Path(args.output)
     if out.exists() and source.exists() and out.resolve() == source.resolve():
         raise ValueError(f"{out}: is the input bag; write the output elsewhere")
@@ -111,6 +111,9 @@ def filter_bag(args: argparse.Namespace) -> int:
         f"pvfilter bag: {entry.name} filter on {inputs.scan_topic}, {count} scans{used}, "
         f"removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
+    note = geometry_note("pvfilter bag", args, params, {})
+    if note:
+        print(note)
     print(f"pvfilter bag: wrote {out} (+ {inputs.filtered_topic}, {inputs.removed_topic})")
     return 0
 

@@ -5,6 +5,7 @@ import pytest
 
 from pvfilter import PitchVariationFilter
 from pvfilter.cli import main
+from pvfilter.improved import ImprovedPitchVariationFilter
 from pvfilter.io import arrays_from_scans
 from pvfilter.synthetic import room_sequence
 
@@ -87,3 +88,92 @@ def test_a_labelled_file_without_scans_is_filtered_without_a_score(scan_file, tm
     out = capsys.readouterr().out
     assert "0 scans" in out and "labels" not in out
     assert (tmp_path / "out.npz").exists()
+
+
+@pytest.fixture
+def told_heights(monkeypatch):
+    """The (lidar, axle, ahead) geometry each improved filter the command builds is given."""
+    told = []
+    build = ImprovedPitchVariationFilter.__init__
+
+    def spy(self, params=None, *args, **kwargs):
+        build(self, params, *args, **kwargs)
+        told.append((self.params.lidar_height_m, self.params.axle_height_m,
+                     self.params.lidar_ahead_m))  # fmt: skip
+
+    monkeypatch.setattr(ImprovedPitchVariationFilter, "__init__", spy)
+    return told
+
+
+@pytest.fixture
+def tall_robot_file(tmp_path):
+    """Scans from a robot that states its geometry: LiDAR 0.5 m up, axle 0.1 m, 0.02 m ahead."""
+    arrays = arrays_from_scans(room_sequence(10).scans)
+    arrays.update(lidar_height_m=np.array(0.5), axle_height_m=0.1, lidar_ahead_m=0.02)
+    path = tmp_path / "tall.npz"
+    np.savez(path, **arrays)
+    return path
+
+
+def test_the_geometry_a_file_states_is_told_to_the_filter(tall_robot_file, tmp_path, capsys,
+                                                          told_heights):  # fmt: skip
+    assert main([str(tall_robot_file), str(tmp_path / "out.npz"), "--improved"]) == 0
+    assert told_heights == [(0.5, 0.1, 0.02)]
+    printed = capsys.readouterr().out
+    assert "geometry (m) from the file: lidar_height_m 0.500, axle_height_m 0.100" in printed
+
+
+def test_the_options_win_over_the_files_geometry(tall_robot_file, tmp_path, told_heights):
+    argv = [str(tall_robot_file), str(tmp_path / "out.npz"), "--improved"]
+    assert main([*argv, "--lidar-height", "0.4", "--set", "axle_height_m=0.05"]) == 0
+    # a value checked against another is checked against the one the filter runs with: an
+    # axle 0.3 m up is above the default LiDAR height (0.25 m), below the file's (0.5 m)
+    assert main([*argv, "--set", "axle_height_m=0.3"]) == 0
+    assert told_heights == [(0.4, 0.05, 0.02), (0.5, 0.3, 0.02)]
+
+
+def test_a_parameter_file_gives_the_geometry_the_scan_file_does_not(scan_file, tmp_path, capsys,
+                                                                    told_heights):  # fmt: skip
+    params = tmp_path / "robot.toml"
+    params.write_text('filter = "improved"\n[improved]\nlidar_height_m = 0.4\n')
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--params", str(params)]) == 0
+    printed = capsys.readouterr().out
+    assert "from the parameter file: lidar_height_m 0.400; defaults: axle_height_m 0.080" in printed
+    params.write_text('filter = "improved"\n[improved]\np_th = 0.6\n')  # no geometry in it
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--params", str(params)]) == 0
+    assert "no robot geometry given" in capsys.readouterr().out
+    assert told_heights == [(0.4, 0.08, 0.0), (0.25, 0.08, 0.0)]
+
+
+def test_geometry_a_file_states_that_cannot_be_is_an_error_naming_the_file(
+    tall_robot_file, tmp_path, capsys
+):
+    out = tmp_path / "out.npz"
+    argv = [str(tall_robot_file), str(out), "--improved", "--lidar-height", "0.05"]
+    assert main(argv) == 2  # below the axle the file states (0.1 m)
+    assert (
+        "tall.npz: with the robot geometry it states (axle_height_m 0.1" in capsys.readouterr().err
+    )
+    arrays = dict(np.load(tall_robot_file))
+    np.savez(tall_robot_file, **{**arrays, "lidar_height_m": np.array("high")})
+    assert main([str(tall_robot_file), str(out), "--improved"]) == 2
+    assert "tall.npz: lidar_height_m: must be one finite number, m" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_a_file_without_geometry_says_the_filter_took_its_defaults(scan_file, tmp_path, capsys,
+                                                                   told_heights):  # fmt: skip
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--improved"]) == 0
+    assert told_heights == [(0.25, 0.08, 0.0)]
+    printed = capsys.readouterr().out
+    assert "no robot geometry given: the filter took its defaults, lidar_height_m 0.250" in printed
+    assert main([str(scan_file), str(tmp_path / "out.npz"), "--improved", "--set",
+                 "lidar_height_m=0.3"]) == 0  # fmt: skip
+    printed = capsys.readouterr().out  # set by hand, and where the rest came from
+    assert "from the options: lidar_height_m 0.300; defaults: axle_height_m 0.080" in printed
+
+
+def test_a_filter_without_geometry_runs_on_a_file_that_states_it(tall_robot_file, tmp_path, capsys):
+    assert main([str(tall_robot_file), str(tmp_path / "out.npz")]) == 0  # the paper's filter
+    printed = capsys.readouterr().out
+    assert "robot geometry" not in printed and "robot's geometry" not in printed

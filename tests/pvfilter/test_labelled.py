@@ -123,6 +123,21 @@ def test_the_file_states_the_robot_geometry_and_set_values_win(tmp_path, oracle)
     assert Oracle.seen_heights == [0.4, 0.3]
 
 
+def test_the_files_geometry_can_be_withheld_as_from_a_user_who_never_set_it(tmp_path, capsys):
+    arrays, _ = labelled_arrays(30)
+    arrays["lidar_height_m"] = np.array(0.4)
+    np.savez(tmp_path / "tall.npz", **arrays)
+    told = evaluate_labelled(tmp_path / "tall.npz", filter_entry("improved"), ignore_geometry=True)
+    assert told.geometry == {}
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(tmp_path / "tall.npz"), "--ignore-geometry", "--out", str(out)]
+    assert main([*argv, "--compare"]) == 0
+    assert json.loads((out / "report.json").read_text())["ignore_geometry"] is True
+    report = (out / "report.md").read_text()
+    assert "geometry the files state is not told to the filters" in report
+    assert "lidar_height_m" not in report.split("| file |")[1]  # the geometry column: none
+
+
 def test_a_filter_is_given_only_the_inputs_asked_for_that_it_takes(tmp_path):
     arrays, _ = labelled_arrays(30)
     arrays["pitch_rad"] = np.zeros(30)

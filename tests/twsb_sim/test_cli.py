@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 from twsb_sim.cli import EXIT_FELL, EXIT_USAGE, main
+from twsb_sim.filter_args import robot_geometry
+from twsb_sim.scenario import load_scenario
 
 SHORT = """
 duration_s = 1.0
@@ -40,6 +42,9 @@ def test_run_prints_a_summary_and_writes_frames(tmp_path, capsys):
         per_frame = frames["imu_samples_per_frame"]
         assert frames["imu_samples"].shape == (per_frame.sum(), 10) and per_frame[1:].min() > 0
         assert frames["odometry_samples"].shape == (frames["odometry_samples_per_frame"].sum(), 6)
+        # the robot the filter in the loop was told of, so an offline run sees the same one
+        geometry = robot_geometry(load_scenario(scenario))
+        assert {key: float(frames[key]) for key in geometry} == geometry
     summary = json.loads((out / "summary.json").read_text())
     assert summary["frames"] == 11 and summary["seed"] == 2
     assert (out / "scenario.toml").read_text() == SHORT
