@@ -17,7 +17,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    most new points, at least ``down_side_min_new``, among those without returns beyond
    them unless none of those has that many; where no segment alone has that many, a
    segment counts all the new points of the scan that lie on its line: a full turn's
-   seam, chair legs or stray returns cut one floor line into pieces), or the IMU's;
+   seam, chair legs or stray returns cut one floor line into pieces; and a line's new
+   share of its returns counts over every beam it spans, as a floor met at a grazing
+   angle echoes on some beams only), or the IMU's;
    unless the strongest line of the other side, taken for the floor, explains both lines
    where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
    there is only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the
@@ -293,10 +295,11 @@ def score_segments(
     # tables, the new faces ahead outnumbered the floor line behind)
     flagged = np.count_nonzero(beyond) > 0
     voters = gates & ~beyond if flagged else gates
-    down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
+    strength = _echo_filled_counts(segments, new_counts)
+    down, down_tilt = _down_side(voters, strength, side, tilt, distances, attitude, params)
     if down == 0 and flagged:
         voters = gates
-        down, down_tilt = _down_side(voters, new_counts, side, tilt, distances, attitude, params)
+        down, down_tilt = _down_side(voters, strength, side, tilt, distances, attitude, params)
     scan_down = down
     if attitude is not None and attitude.tilted:  # (the IMU chose the side: the scan's own,
         # every gated line voting, checks the IMU's sign: counted without the lines with
@@ -400,6 +403,19 @@ def _pooled_new_counts(
     points, line = spread_claims(segments, indices(pieces), params)
     on_line = np.bincount(line, new_valid.take(points), len(segments))
     return np.where(pieces, np.maximum(new_counts, on_line), new_counts)
+
+
+def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarray:
+    """Per segment, its new points counted over every beam it spans, silent ones too.
+
+    A plane tilted into the floor meets it at a grazing angle, and many scanners return no
+    echo there on some of the beams: a floor line behind a 360-beam scanner pitched 9°
+    returns on half of them. The floor it met is as long as its span, not as its echoes;
+    so the new share of its returns is counted over the beams it spans (a segment's
+    returns are a run of the scan's: the beams between them returned nothing)."""
+    bounds = segments.bounds
+    first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
+    return new_counts * (last - first + 1) / np.maximum(segments.sizes, 1)
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:

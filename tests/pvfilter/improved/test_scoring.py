@@ -305,6 +305,20 @@ def test_a_weak_line_alone_shows_no_pitch_event():
     assert with_imu.down_side == 1 and with_imu.scores[0] == pytest.approx(1.0)
 
 
+def test_a_floor_line_that_echoes_on_every_other_beam_is_as_long_as_the_beams_it_spans():
+    # a floor line 1.5 m behind a plane pitched 9.5 deg, met at a grazing angle: 12
+    # echoes, every other beam silent. Over 12 beams it is clutter (12 new points, fewer
+    # than down_side_min_new); over 23 beams it is a floor line as long as 23 returns
+    x = -HEIGHT_M / math.sin(math.radians(9.5))
+    points = line(x, 0.8, x, -0.8, 12)
+    for beams, down in ((np.arange(12), 0), (np.arange(0, 24, 2), -1)):
+        segments = segment_scan(points, beams, INCREMENT, PARAMS)
+        result = score_segments(segments, np.ones(12, bool), 0.0, None, PARAMS)
+        assert len(segments) == 1 and result.gates[0]
+        assert result.down_side == down
+        assert result.scores[0] == pytest.approx(1.0 if down else PARAMS.up_side_weight)
+
+
 def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong_line():
     # a floor line 1.8 m ahead (8 deg at 0.25 m) with no new point: it settled within the
     # margin of what lies behind it, while the sensor turned in place
