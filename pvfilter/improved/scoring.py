@@ -111,6 +111,9 @@ IMU_SIGN_CEILING_SHARE = 0.5  # 1: a line on the IMU's up side nearer than this 
 # the nearest a ceiling can be at its tilt can only be the floor: the estimate's sign is
 # contradicted (a floor line lies h / sin p out, a ceiling (H - h) / sin p: with H over
 # 3 h, under half as far)
+MAX_ECHO_FILL = 2.0  # a line's vote for the down side counts at most this many times its
+# own new points for the beams it spans without a return (a grazing floor line returns on
+# about half of them; a face strewn over invalid readings no more than that)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
@@ -274,6 +277,7 @@ def score_segments(
     gates = geometry_gates(segments, tilt, distances, time_increment, params)
     score = np.where(gates, share, 0.0)
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
+    own_new = new_counts  # (before the pieces of a cut line count theirs together)
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         strong = gates & (new_counts >= params.down_side_min_new)
@@ -295,7 +299,7 @@ def score_segments(
     # tables, the new faces ahead outnumbered the floor line behind)
     flagged = np.count_nonzero(beyond) > 0
     voters = gates & ~beyond if flagged else gates
-    strength = _echo_filled_counts(segments, new_counts)
+    strength = np.maximum(new_counts, _echo_filled_counts(segments, own_new))
     down, down_tilt = _down_side(voters, strength, side, tilt, distances, attitude, params)
     if down == 0 and flagged:
         voters = gates
@@ -406,16 +410,20 @@ def _pooled_new_counts(
 
 
 def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarray:
-    """Per segment, its new points counted over every beam it spans, silent ones too.
+    """Per segment, its own new points counted over the beams it spans without a return
+    too, at its share of new returns, up to ``MAX_ECHO_FILL`` times its count.
 
     A plane tilted into the floor meets it at a grazing angle, and many scanners return no
     echo there on some of the beams: a floor line behind a 360-beam scanner pitched 9°
-    returns on half of them. The floor it met is as long as its span, not as its echoes;
-    so the new share of its returns is counted over the beams it spans (a segment's
-    returns are a run of the scan's: the beams between them returned nothing)."""
+    returns on half of them. The floor it met is as long as its span, not as its echoes.
+    A segment's returns are a run of the scan's, so the beams between them gave no return
+    (no echo, or none the scanner could measure); the bound keeps a few returns strewn
+    over a run of such beams (a face seen through a window of invalid readings) from
+    passing for a line."""
     bounds = segments.bounds
     first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
-    return new_counts * (last - first + 1) / np.maximum(segments.sizes, 1)
+    fill = np.minimum((last - first + 1) / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
+    return new_counts * fill
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:
