@@ -133,7 +133,8 @@ class ImprovedParams:
             undersides), 1 (1: no side cue).
         down_side_min_new: the strongest line fixes the down side only with at least this
             many new points, points (at 0.5° between beams, as ``min_points``; the beams
-            a line spans without an echo count at its share of new returns).
+            a segment spans without a return count at its share of new returns, up to
+            twice its count).
         p_th: a segment is removed when its score exceeds this, 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.
