@@ -132,7 +132,9 @@ class ImprovedParams:
             are too near to be its ceiling (furniture met at another height, table
             undersides), 1 (1: no side cue).
         down_side_min_new: the strongest line fixes the down side only with at least this
-            many new points, points (at 0.5° between beams, as ``min_points``).
+            many new points, points (at 0.5° between beams, as ``min_points``; the beams
+            a segment spans without a return count at its share of new returns, up to
+            twice its count).
         p_th: a segment is removed when its score exceeds this, 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.

@@ -17,7 +17,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    most new points, at least ``down_side_min_new``, among those without returns beyond
    them unless none of those has that many; where no segment alone has that many, a
    segment counts all the new points of the scan that lie on its line: a full turn's
-   seam, chair legs or stray returns cut one floor line into pieces), or the IMU's;
+   seam, chair legs or stray returns cut one floor line into pieces; and a segment's
+   own new share counts over the beams it spans without a return, up to twice its new
+   points, as a floor met at a grazing angle echoes on some beams only), or the IMU's;
    unless the strongest line of the other side, taken for the floor, explains both lines
    where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
    there is only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the
@@ -109,6 +111,9 @@ IMU_SIGN_CEILING_SHARE = 0.5  # 1: a line on the IMU's up side nearer than this 
 # the nearest a ceiling can be at its tilt can only be the floor: the estimate's sign is
 # contradicted (a floor line lies h / sin p out, a ceiling (H - h) / sin p: with H over
 # 3 h, under half as far)
+MAX_ECHO_FILL = 2.0  # a segment's new points count at most this many times over for the
+# beams it spans without a return (a grazing floor line returns on about half of them; a
+# face strewn over invalid readings no more than that)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
@@ -150,8 +155,10 @@ class SegmentScores:
         gates: per segment, it passes the geometry gates.
         share_new: per segment, the share of its points that are new (points that
             coincide with the level view weighted by ``COINCIDENT_WEIGHT``).
-        new_counts: per segment, its new points (a segment that keeps a held tilt's floor
-            line's place counts as strong: at least ``down_side_min_new``).
+        new_counts: per segment, its new points: its line's, where a cut line's pieces
+            count theirs together, and the beams it spans without a return at its share of
+            new returns (:func:`_echo_filled_counts`); a segment that keeps a held tilt's
+            floor line's place counts as strong: at least ``down_side_min_new``.
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
@@ -272,7 +279,9 @@ def score_segments(
     gates = geometry_gates(segments, tilt, distances, time_increment, params)
     score = np.where(gates, share, 0.0)
     side = np.sign(segments.centroids[:, 0])  # +1 ahead, -1 behind
+    own_new = new_counts  # (before the pieces of a cut line count theirs together)
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
+    new_counts = np.maximum(new_counts, _echo_filled_counts(segments, own_new))
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         strong = gates & (new_counts >= params.down_side_min_new)
         score *= _length_shares(segments, strong, params)
@@ -400,6 +409,23 @@ def _pooled_new_counts(
     points, line = spread_claims(segments, indices(pieces), params)
     on_line = np.bincount(line, new_valid.take(points), len(segments))
     return np.where(pieces, np.maximum(new_counts, on_line), new_counts)
+
+
+def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarray:
+    """Per segment, its own new points counted over the beams it spans without a return
+    too, at its share of new returns, up to ``MAX_ECHO_FILL`` times its count.
+
+    A plane tilted into the floor meets it at a grazing angle, and many scanners return no
+    echo there on some of the beams: a floor line behind a 360-beam scanner pitched 9°
+    returns on half of them. The floor it met is as long as its span, not as its echoes.
+    A segment's returns are a run of the scan's, so the beams between them gave no return
+    (no echo, or none the scanner could measure); the bound keeps a few returns strewn
+    over a run of such beams (a face seen through a window of invalid readings) from
+    passing for a line."""
+    bounds = segments.bounds
+    first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
+    fill = np.minimum((last - first + 1) / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
+    return new_counts * fill
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:

@@ -305,6 +305,34 @@ def test_a_weak_line_alone_shows_no_pitch_event():
     assert with_imu.down_side == 1 and with_imu.scores[0] == pytest.approx(1.0)
 
 
+def test_a_floor_line_that_echoes_on_every_other_beam_is_as_long_as_the_beams_it_spans():
+    # a floor line 1.5 m behind a plane pitched 9.5 deg, met at a grazing angle: 12
+    # echoes, every other beam silent. Over 12 beams it is clutter (12 new points, fewer
+    # than down_side_min_new); over 23 beams it is a floor line as long as 23 returns
+    x = -HEIGHT_M / math.sin(math.radians(9.5))
+    points = line(x, 0.8, x, -0.8, 12)
+    for beams, down in ((np.arange(12), 0), (np.arange(0, 24, 2), -1)):
+        segments = segment_scan(points, beams, INCREMENT, PARAMS)
+        result = score_segments(segments, np.ones(12, bool), 0.0, None, PARAMS)
+        assert len(segments) == 1 and result.gates[0]
+        assert result.down_side == down
+        assert result.scores[0] == pytest.approx(1.0 if down else PARAMS.up_side_weight)
+
+
+def test_a_face_strewn_over_beams_without_returns_counts_at_most_twice_its_points():
+    # 10 new returns 1 m ahead, 5 beams apart (the rest invalid or silent): over 46 beams
+    # they would count as 46, a pitch event; bounded at twice their number (20), they
+    # just make down_side_min_new, and 9 of them do not
+    points = line(1.0, 0.2, 1.0, -0.2, 10)
+    segments = segment_scan(points, np.arange(0, 50, 5), INCREMENT, PARAMS)
+    result = score_segments(segments, np.ones(10, bool), 0.0, None, PARAMS)
+    assert len(segments) == 1 and result.new_counts[0] == pytest.approx(20.0)
+    assert result.down_side == 1
+    segments = segment_scan(points[:9], np.arange(0, 45, 5), INCREMENT, PARAMS)
+    result = score_segments(segments, np.ones(9, bool), 0.0, None, PARAMS)
+    assert result.new_counts[0] == pytest.approx(18.0) and result.down_side == 0
+
+
 def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong_line():
     # a floor line 1.8 m ahead (8 deg at 0.25 m) with no new point: it settled within the
     # margin of what lies behind it, while the sensor turned in place
