@@ -21,10 +21,10 @@ import numpy as np
 
 from pvfilter.cli_options import (
     add_filter_options,
-    chosen_filter,
     filter_options,
     geometry_note,
     robot_inputs,
+    with_geometry,
 )
 from pvfilter.exits import run_command
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
@@ -88,13 +88,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _filter_file(args: argparse.Namespace) -> int:
-    filter_options(args)  # the options' own mistakes, before the input is read
+    options = filter_options(args)  # the options' own mistakes, before the input is read
     source, output = Path(args.input), Path(args.output)
     _check_output(source, output)
     arrays = read_arrays(source)
     scans = scans_from_arrays(arrays, source=str(source))
     stated = geometry_of(arrays, str(source))  # the robot that recorded the file
-    entry, params = chosen_filter(args, stated, str(source))
+    entry, params = with_geometry(args, options, stated, str(source))
     # labels the score needs, checked before the work: a bad one ends the command first
     labels = None
     if "labels" in arrays:

@@ -93,23 +93,33 @@ def chosen_filter(
     args: argparse.Namespace, stated: Mapping[str, float] | None = None, source: str = ""
 ) -> tuple[FilterEntry, Any]:
     """The filter and parameters the options ask for (:func:`filter_options`), with the
-    robot geometry the input ``source`` states (``stated``; see :func:`robot_geometry`),
-    all applied at once: a value checked against another (the axle's height against the
-    LiDAR's) is checked against the one the filter runs with.
+    robot geometry the input ``source`` states (``stated``; see :func:`with_geometry`)."""
+    return with_geometry(args, filter_options(args), stated or {}, source)
+
+
+def with_geometry(
+    args: argparse.Namespace,
+    options: tuple[FilterEntry, Any, dict[str, Any]],
+    stated: Mapping[str, float],
+    source: str,
+) -> tuple[FilterEntry, Any]:
+    """The filter and parameters of ``options`` (:func:`filter_options`), with the values
+    the options replace and the robot geometry the input ``source`` states (``stated``;
+    see :func:`robot_geometry`) all applied at once: a value checked against another (the
+    axle's height against the LiDAR's) is checked against the one the filter runs with.
 
     Raises:
-        ValueError: as :func:`filter_options`; a value out of its bounds; the geometry the
-            input states, where the parameters cannot take it (naming ``source``).
-        OSError: the parameter file cannot be read.
+        ValueError: a value out of its bounds; the geometry the input states, where the
+            parameters cannot take it (naming ``source``).
     """
-    entry, params, fields = filter_options(args)
-    geometry = robot_geometry(args, params, stated or {})
+    entry, params, fields = options
+    geometry = robot_geometry(args, params, stated)
     if not (fields or geometry):
         return entry, params
     try:
         return entry, dataclasses.replace(params, **{**fields, **geometry})
     except ValueError as error:
-        from_input = {k: v for k, v in (stated or {}).items() if geometry.get(k) == v}
+        from_input = {k: v for k, v in stated.items() if geometry.get(k) == v}
         if not from_input:
             raise
         told = ", ".join(f"{k} {v:g}" for k, v in from_input.items())
@@ -149,14 +159,14 @@ def geometry_note(
     if args.params:
         table = read_params_file(args.params)
         in_file = set(table.get(table.get("filter"), {}))
-    origins: dict[str, list[str]] = {}
+    origins: dict[str, list[str]] = {}  # "from the file: lidar_height_m 0.300", ...
     for name in fields:
         if name in by_hand:
-            origin = "the options"
+            origin = "from the options"
         elif name in stated:
-            origin = "the file"
+            origin = "from the file"
         elif name in in_file:
-            origin = "the parameter file"
+            origin = "from the parameter file"
         else:
             origin = "defaults"
         origins.setdefault(origin, []).append(f"{name} {getattr(params, name):.3f}")
@@ -166,8 +176,8 @@ def geometry_note(
             f"{', '.join(origins['defaults'])} (m); set yours with --lidar-height M or "
             "--set NAME=VALUE"
         )
-    parts = [f"from {origin}: {', '.join(values)}" for origin, values in origins.items()]
-    return f"{command}: robot geometry (m) " + "; ".join(parts).replace("from defaults", "defaults")
+    parts = [f"{origin}: {', '.join(values)}" for origin, values in origins.items()]
+    return f"{command}: robot geometry (m) " + "; ".join(parts)
 
 
 def _takes(params: Any) -> set[str]:

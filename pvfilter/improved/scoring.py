@@ -200,9 +200,7 @@ def geometry_gates(
     ``distances`` are the lines' distances from the plane's point over the axle, m
     (:func:`pvfilter.improved.geometry.axle_distances`).
     """
-    bounds = segments.bounds
-    first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
-    span_s = (last - first) * abs(time_increment)
+    span_s = (segments.beam_spans - 1) * abs(time_increment)
     return (
         segments.across
         & (segments.sizes >= params.min_points)
@@ -422,9 +420,7 @@ def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarra
     (no echo, or none the scanner could measure); the bound keeps a few returns strewn
     over a run of such beams (a face seen through a window of invalid readings) from
     passing for a line."""
-    bounds = segments.bounds
-    first, last = segments.beams.take(bounds[:-1]), segments.beams.take(bounds[1:] - 1)
-    fill = np.minimum((last - first + 1) / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
+    fill = np.minimum(segments.beam_spans / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
     return new_counts * fill
 
 

@@ -230,6 +230,17 @@ class Segments:
             self.memo["bounds"] = bounds
         return self.memo["bounds"]
 
+    @property
+    def beam_spans(self) -> np.ndarray:
+        """Each segment's beams from its first point to its last, both counted, ``(k,)``
+        (kept in ``memo``): a segment's points are a run of the scan's valid points, so
+        the beams among them that are not its own gave no valid return."""
+        if "beam_spans" not in self.memo:
+            bounds = self.bounds
+            first, last = self.beams.take(bounds[:-1]), self.beams.take(bounds[1:] - 1)
+            self.memo["beam_spans"] = last - first + 1
+        return self.memo["beam_spans"]
+
     @functools.cached_property
     def _fit(self) -> tuple[np.ndarray, ...]:
         """Centroids, unit normals, distances, the two spreads and the signed offsets of
