@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.ndimage import minimum_filter1d
@@ -20,6 +21,12 @@ from pvfilter.improved.motion import Motion
 
 STANDING_PITCH_CHANGE = math.radians(0.5)  # rad: the least a standing robot's pitch
 # changes over the world-static baseline while a pitch event lasts (see WorldStatic)
+GRAVITY_MPS2 = 9.81  # m/s^2: a balancing body holds a tilt p only while its axle
+# accelerates at g tan p
+STANDING_FALL_SHARE = 0.25  # beyond the steepest tilt a standing body could hold
+# (WorldStatic.hold_tilt_rad), the least share of the excess by which its pitch changes
+# over the baseline: a body up to 1 m above its axle (sqrt(l / g) <= 0.32 s) falls or is
+# caught by (cosh(T sqrt(g / l)) - 1) >= 0.48 of it; half that, for the margin
 STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of the same
 # surface lies (range noise of two measurements, plus the motion's or the level view's
 # error; plus 1 % of the range): the world-static test, and a return on the level view
@@ -114,6 +121,17 @@ def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndar
     return least
 
 
+def standing_pitch_change(tilt_rad: np.ndarray, hold_rad: float) -> np.ndarray:
+    """The least change of pitch over the world-static baseline of a robot that stood, for
+    a line at ``tilt_rad`` (rad, per segment): ``STANDING_PITCH_CHANGE``, and beyond the
+    steepest tilt the body could hold meanwhile (``hold_rad``,
+    :attr:`WorldStatic.hold_tilt_rad`) a share ``STANDING_FALL_SHARE`` of the excess. A
+    balancing body that stands cannot hold a steep tilt: it falls, or its controller
+    drives the axle from under it (and the sensor moves)."""
+    excess = np.abs(tilt_rad) - hold_rad
+    return np.maximum(STANDING_PITCH_CHANGE, STANDING_FALL_SHARE * excess)
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class WorldStatic:
     """Which returns an earlier scan saw at the same place in the world.
@@ -131,9 +149,14 @@ class WorldStatic:
     balancing robot that stands holds one pitch only at its balance point, where its
     plane meets no floor (or meets it where it always does, a mount's tilt: structure to
     the filter too). So there the test also tells where the line a return lies on would
-    move by more than twice the tolerance for a pitch change of ``STANDING_PITCH_CHANGE``
-    (``floor_shift_m``, from :func:`pvfilter.improved.geometry.floor_shift`): a shallow
-    line that stayed put is a wall that came back into view, not the floor.
+    move by more than twice the tolerance for the least pitch change of a robot that
+    stands (:func:`standing_pitch_change`: ``STANDING_PITCH_CHANGE``, more for a steep
+    tilt, which a standing body cannot hold; ``floor_shift_m``, from
+    :func:`pvfilter.improved.geometry.floor_shift`): a line that stayed put is a wall that
+    came back into view, not the floor. The sensor stood only where the scan matches saw
+    it stand (``travel_seen``): along a corridor, or while floor lines hide the walls
+    ahead, a match that cannot see the drive reads a robot that drives on as standing,
+    and its floor line as a line that stayed put.
 
     Where the sensor turned, the floor line of a tilt held through the turn keeps its
     place in the sensor frame, and near the foot of its perpendicular the range the turn
@@ -149,6 +172,12 @@ class WorldStatic:
         layout: the beams.
         since: the motion from the earlier scan to this one.
         tolerance_m: how near the prediction a static return lies, m (plus 1 % of range).
+        travel_seen: every step since the earlier scan was measured along every
+            direction (by the scan match, or the wheels): only then can the sensor be
+            known to have stood.
+        span_s: the time since the earlier scan, s (0: unknown).
+        start_speed_mps: the sensor's speed over the first step after the earlier scan,
+            m/s (inf: unknown).
     """
 
     ranges: np.ndarray
@@ -157,6 +186,22 @@ class WorldStatic:
     layout: BeamLayout
     since: Motion
     tolerance_m: float
+    travel_seen: bool = True
+    span_s: float = 0.0
+    start_speed_mps: float = math.inf
+
+    @property
+    def hold_tilt_rad(self) -> float:
+        """The steepest tilt the body could have held over the baseline while the sensor
+        moved no farther than the test tells, rad: holding a tilt ``p`` takes an
+        acceleration of ``g tan p``, and an axle that set out at ``start_speed_mps`` and
+        ended within ``d`` (twice the tolerance) of where it was ``T`` before accelerated
+        at most ``2 (d + v T) / T^2`` (from rest over 0.3 s: 1.3 m/s^2, 7.7 deg; one that
+        braked from 0.4 m/s, 22 deg)."""
+        if self.span_s <= 0.0 or not math.isfinite(self.start_speed_mps):
+            return 0.5 * math.pi
+        reach_m = 2.0 * self.tolerance_m + self.start_speed_mps * self.span_s
+        return math.atan(2.0 * reach_m / (self.span_s**2 * GRAVITY_MPS2))
 
     def at(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
@@ -166,8 +211,9 @@ class WorldStatic:
         Args:
             beams: the beams asked about.
             floor_shift_m: per beam asked about, how far the floor line through its
-                return would move for a pitch change of ``STANDING_PITCH_CHANGE``, m
-                (None: the sensor's own motion alone tells).
+                return would move for the least pitch change of a robot that stands
+                (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
+                tells).
         """
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
@@ -187,12 +233,22 @@ class WorldStatic:
         twice = 2.0 * tolerance  # farther than this tells
         telling = (np.abs(moved) > twice) & facing_ok
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
-            stood = math.hypot(since.tx_m, since.ty_m) <= twice
+            stood = self.travel_seen and math.hypot(since.tx_m, since.ty_m) <= twice
             telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
+
+
+class Earlier(NamedTuple):
+    """The scan the world-static test compares with (:meth:`RecentScans.oldest`)."""
+
+    ranges: np.ndarray  # its ranges (mid-scan frame, unstretched), m
+    since: Motion  # the motion from it to now
+    seen: bool  # every step since was measured along every direction
+    span_s: float  # the time from it to now, s
+    start_speed_mps: float  # the speed over the first step after it, m/s (inf: unknown)
 
 
 class RecentScans:
@@ -207,33 +263,36 @@ class RecentScans:
 
     def __init__(self, baseline_s: float) -> None:
         self.baseline_s = baseline_s
-        self.scans: list[tuple[float, np.ndarray, Motion]] = []  # (stamp, ranges, pose)
+        self.scans: list[tuple[float, np.ndarray, Motion, int]] = []  # (stamp, ranges,
+        # pose, unseen steps before it)
         self.pose = Motion()  # the fixed frame -> the latest scan's
+        self.unseen_steps = 0  # steps so far whose drive the matches could not see
 
     def clear(self) -> None:
         """Forget them (a re-baseline)."""
         self.scans.clear()
         self.pose = Motion()
 
-    def moved(self, step: Motion) -> tuple[np.ndarray, Motion] | None:
-        """Take the sensor's step to the scan now; the oldest kept scan's ranges and the
-        motion from it to now (None: none kept)."""
-        self.advance(step)
-        return self.oldest()
-
-    def advance(self, step: Motion) -> None:
-        """Take the sensor's step to the scan now."""
+    def advance(self, step: Motion, seen: bool = True) -> None:
+        """Take the sensor's step to the scan now (``seen``: measured along every
+        direction)."""
         self.pose = self.pose.then(step)
+        self.unseen_steps += not seen
 
-    def oldest(self) -> tuple[np.ndarray, Motion] | None:
-        """The oldest kept scan's ranges and the motion from it to now (None: none kept)."""
+    def oldest(self, stamp: float) -> Earlier | None:
+        """The oldest kept scan, seen from the scan now at ``stamp`` (None: none kept)."""
         if not self.scans:
             return None
-        _, ranges, pose = self.scans[0]
-        return ranges, pose.inverse().then(self.pose)
+        then, ranges, pose, unseen = self.scans[0]
+        since = pose.inverse().then(self.pose)
+        # the first step after it: to the next kept scan, or to now
+        after, after_pose = (stamp, self.pose) if len(self.scans) < 2 else self.scans[1][0::2]
+        first = pose.inverse().then(after_pose)
+        speed = first.translation_m / (after - then) if after > then else math.inf
+        return Earlier(ranges, since, unseen == self.unseen_steps, stamp - then, speed)
 
     def add(self, stamp: float, ranges: np.ndarray) -> None:
         """Take the scan now in, and drop those older than ``baseline_s`` (keeping one)."""
-        self.scans.append((stamp, ranges, self.pose))
+        self.scans.append((stamp, ranges, self.pose, self.unseen_steps))
         while stamp - self.scans[0][0] > self.baseline_s:
             self.scans.pop(0)

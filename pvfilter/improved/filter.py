@@ -34,7 +34,7 @@ from pvfilter.improved.anchor import (
 from pvfilter.improved.beams import BeamLayout, indices
 from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
-from pvfilter.improved.doubt import ViewDoubt
+from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
     STATIC_TOLERANCE_M,
@@ -323,6 +323,10 @@ class ImprovedPitchVariationFilter:
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
         unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
+        # the drive of this step was measured in every direction (by the wheels, or a
+        # match with support along all of them): the world-static test may take a sensor
+        # that moved no farther than its tolerance for one that stood
+        travel_seen = pose is not None or match.weak[0] >= WEAK_ROWS
         new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
@@ -334,6 +338,7 @@ class ImprovedPitchVariationFilter:
             outcome.fresh,
             blind,
             unseen_travel,
+            travel_seen,
         )
         # a floor line held through a turn in place keeps its place in the sensor frame
         held = self._follower.held(scan.stamp, self._recent.pose)
@@ -463,6 +468,7 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
         blind: bool,
         unseen_travel: bool,
+        travel_seen: bool = True,
     ) -> tuple[
         np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None, np.ndarray | None
     ]:
@@ -476,7 +482,10 @@ class ImprovedPitchVariationFilter:
 
         A ``blind`` scan (coasting on the constant-velocity guess) is compared with the
         view within the guess's doubt, :func:`blind_margin_m`: the view is neither
-        re-anchored nor asked whether the returns stayed put in the world."""
+        re-anchored nor asked whether the returns stayed put in the world.
+        ``travel_seen``: the step's drive was measured in every direction (the
+        world-static test takes a sensor that moved no farther than its tolerance since
+        the earlier scan for one that stood only where every step since was)."""
         params, layout = self.params, self._layout
         if fresh:
             return np.zeros(layout.count, bool), np.zeros(layout.count, bool), None, None, None
@@ -485,7 +494,7 @@ class ImprovedPitchVariationFilter:
             layout, scan.range_max, step, velocity, scan.time_increment, params, *echoes,
             range_min=scan.range_min,
         )  # fmt: skip
-        self._recent.advance(step)
+        self._recent.advance(step, travel_seen)
         gaps = free_space_gaps(ranges, view.known_free_m(), layout, scan.range_max)
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
             margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
@@ -538,12 +547,19 @@ class ImprovedPitchVariationFilter:
         # tested: a scan with no new return (most) has no use for the test then (with an
         # IMU every gated line is)
         tested = through is not None or self._attitude.current is not None
-        earlier = self._recent.oldest() if tested else None
+        earlier = self._recent.oldest(scan.stamp) if tested else None
         static = None
         if earlier is not None:
-            earlier_ranges, since = earlier
             static = WorldStatic(
-                level_ranges, earlier_ranges, directions, layout, since, STATIC_TOLERANCE_M
+                level_ranges,
+                earlier.ranges,
+                directions,
+                layout,
+                earlier.since,
+                STATIC_TOLERANCE_M,
+                earlier.seen,
+                earlier.span_s,
+                earlier.start_speed_mps,
             )
         return new, through, view, static, back
 

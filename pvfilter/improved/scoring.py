@@ -76,7 +76,7 @@ import numpy as np
 
 from pvfilter.improved.beams import indices
 from pvfilter.improved.claims import spread_claims
-from pvfilter.improved.evidence import STANDING_PITCH_CHANGE, STATIC_TOLERANCE_M, WorldStatic
+from pvfilter.improved.evidence import STATIC_TOLERANCE_M, WorldStatic, standing_pitch_change
 from pvfilter.improved.geometry import (
     TURN_TOLERANCE,
     axle_distances,
@@ -536,7 +536,8 @@ def _world_static_share(
     k = len(segments)
     points = indices(scored.take(segments.labels))
     labels = segments.labels.take(points)
-    shift = floor_shift(tilt, STANDING_PITCH_CHANGE, params).take(labels)
+    change = standing_pitch_change(tilt, static.hold_tilt_rad)
+    shift = floor_shift(tilt, change, params).take(labels)
     stayed, telling = static.at(segments.beams.take(points), shift)
     told = np.bincount(labels, telling, k)
     share = np.bincount(labels, stayed, k) / np.maximum(told, 1.0)

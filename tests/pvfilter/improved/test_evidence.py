@@ -7,11 +7,13 @@ import pytest
 
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion, segment_scan
 from pvfilter.improved.evidence import (
+    STANDING_FALL_SHARE,
     STANDING_PITCH_CHANGE,
     RecentScans,
     WorldStatic,
     free_space_gaps,
     new_points,
+    standing_pitch_change,
 )
 from pvfilter.improved.geometry import floor_shift
 
@@ -116,6 +118,41 @@ def test_standing_a_shallow_line_that_stayed_put_is_a_wall_and_one_that_moved_is
     assert np.array_equal(driven.at(beams, np.full(beams.size, shallow))[1], driven.at(beams)[1])
 
 
+def test_a_standing_body_cannot_hold_a_steep_tilt_so_a_steep_line_that_stayed_put_is_a_wall():
+    # holding a tilt takes an acceleration of g tan p: an axle that set out from rest and
+    # stayed within the test's reach (2 x 3 cm) over 0.3 s held at most 7.7 deg, and
+    # beyond it the body falls or is caught. A face 1.4 m behind a LiDAR 0.69 m up implies
+    # a 27 deg tilt: the least change of pitch then moves that line by decimetres where
+    # 0.5 deg moved it by 3 cm
+    params = ImprovedParams(lidar_height_m=0.69, axle_height_m=0.14)
+    level, _ = room_scan(noise_m=0.0)
+    layout = BeamLayout.of(level)
+    beams = np.flatnonzero(level.valid_mask())
+    ranges = ranges_of(level)
+
+    def stood(start_speed_mps, seen=True):
+        return WorldStatic(ranges, ranges, directions_of(level), layout, Motion(), 0.03,
+                           seen, 0.3, start_speed_mps)  # fmt: skip
+
+    assert math.degrees(stood(0.0).hold_tilt_rad) == pytest.approx(7.74, abs=0.01)
+    # an axle that braked from 0.4 m/s to a stop within the reach could hold 22 deg
+    assert math.degrees(stood(0.4).hold_tilt_rad) == pytest.approx(22.2, abs=0.1)
+    assert stood(math.inf).hold_tilt_rad == pytest.approx(math.pi / 2)  # unknown: none
+    steep = np.array([math.radians(27.0)])
+    hold = stood(0.0).hold_tilt_rad
+    change = standing_pitch_change(steep, hold)[0]
+    assert change == pytest.approx(STANDING_FALL_SHARE * (steep[0] - hold))
+    assert standing_pitch_change(np.array([math.radians(5.0)]), hold)[0] == STANDING_PITCH_CHANGE
+    assert floor_shift(steep, STANDING_PITCH_CHANGE, params)[0] < 0.06  # no telling before
+    shift = floor_shift(steep, change, params)[0]
+    assert shift > 0.1  # well beyond twice the tolerance: it tells
+    static, telling = stood(0.0).at(beams, np.full(beams.size, shift))
+    assert telling.all() and static.all()  # it stayed put while the sensor stood: a wall
+    # a robot whose matches could not see its drive (a corridor) may have driven on with
+    # its floor line: it is not known to have stood, and the line tells nothing
+    assert not stood(0.0, seen=False).at(beams, np.full(beams.size, shift))[1].any()
+
+
 def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put():
     # the sensor stands and turns 10 deg while it holds a 7 deg tilt: the floor line keeps
     # its place in the sensor frame. Near the foot of its perpendicular the turn changes
@@ -141,10 +178,17 @@ def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put()
 def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
     recent = RecentScans(0.25)
     for k in range(6):
-        moved = recent.moved(Motion(tx_m=-0.1))
+        recent.advance(Motion(tx_m=-0.1 * (k + 1)), seen=k != 2)  # speeding up
+        earlier = recent.oldest(0.1 * k)
         recent.add(0.1 * k, np.full(3, float(k)))
-    ranges, since = moved
-    assert ranges[0] == 2.0 and since.tx_m == pytest.approx(-0.3)  # 0.3 s before the last
-    assert [round(t, 6) for t, _, _ in recent.scans] == [0.3, 0.4, 0.5]
+    assert earlier.ranges[0] == 2.0  # 0.3 s before the last
+    assert earlier.since.tx_m == pytest.approx(-0.4 - 0.5 - 0.6)
+    assert earlier.span_s == pytest.approx(0.3)
+    assert earlier.start_speed_mps == pytest.approx(4.0)  # the step after it: 0.4 m
+    assert earlier.seen  # the step the matches did not see came before that scan
+    assert [round(s[0], 6) for s in recent.scans] == [0.3, 0.4, 0.5]
+    recent.advance(Motion(tx_m=-0.1), seen=False)
+    assert not recent.oldest(0.6).seen
     recent.clear()
-    assert recent.moved(Motion()) is None
+    recent.advance(Motion())
+    assert recent.oldest(0.7) is None

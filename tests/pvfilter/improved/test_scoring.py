@@ -244,6 +244,8 @@ def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against
 class Told:
     """A stand-in world-static test: every point stayed put, and the test tells or not."""
 
+    hold_tilt_rad = math.pi / 2  # no tilt a standing robot could not hold
+
     def __init__(self, tells):
         self.tells = tells
 
