@@ -25,8 +25,9 @@ GRAVITY_MPS2 = 9.81  # m/s^2: a balancing body holds a tilt p only while its axl
 # accelerates at g tan p
 STANDING_FALL_SHARE = 0.25  # beyond the steepest tilt a standing body could hold
 # (WorldStatic.hold_tilt_rad), the least share of the excess by which its pitch changes
-# over the baseline: a body up to 1 m above its axle (sqrt(l / g) <= 0.32 s) falls or is
-# caught by (cosh(T sqrt(g / l)) - 1) >= 0.48 of it; half that, for the margin
+# over the baseline: a body up to 1 m above its axle (sqrt(l / g) <= 0.32 s) that was
+# still at the earlier scan falls or is caught by (cosh(T sqrt(g / l)) - 1) >= 0.48 of
+# it; half that, for the margin (one still rising then can come back to the same tilt)
 STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of the same
 # surface lies (range noise of two measurements, plus the motion's or the level view's
 # error; plus 1 % of the range): the world-static test, and a return on the level view
@@ -175,9 +176,10 @@ class WorldStatic:
         travel_seen: every step since the earlier scan was measured along every
             direction (by the scan match, or the wheels): only then can the sensor be
             known to have stood.
-        span_s: the time since the earlier scan, s (0: unknown).
-        start_speed_mps: the sensor's speed over the first step after the earlier scan,
-            m/s (inf: unknown).
+        span_s: the time since the earlier scan, s.
+        first_step_s: the time from the earlier scan to the scan after it, s.
+        first_speed_mps: the sensor's mean speed over that step, m/s (inf: unknown).
+            By default the history is unknown, and no tilt is too steep to hold.
     """
 
     ranges: np.ndarray
@@ -188,20 +190,30 @@ class WorldStatic:
     tolerance_m: float
     travel_seen: bool = True
     span_s: float = 0.0
-    start_speed_mps: float = math.inf
+    first_step_s: float = 0.0
+    first_speed_mps: float = math.inf
 
     @property
     def hold_tilt_rad(self) -> float:
-        """The steepest tilt the body could have held over the baseline while the sensor
-        moved no farther than the test tells, rad: holding a tilt ``p`` takes an
-        acceleration of ``g tan p``, and an axle that set out at ``start_speed_mps`` and
-        ended within ``d`` (twice the tolerance) of where it was ``T`` before accelerated
-        at most ``2 (d + v T) / T^2`` (from rest over 0.3 s: 1.3 m/s^2, 7.7 deg; one that
-        braked from 0.4 m/s, 22 deg)."""
-        if self.span_s <= 0.0 or not math.isfinite(self.start_speed_mps):
+        """The steepest tilt the body could have held since the earlier scan, rad.
+
+        Holding a tilt ``p`` takes an acceleration of ``g tan p`` (the balance point
+        moves with a mount's tilt or an offset centre of mass by a degree or two, within
+        ``STANDING_PITCH_CHANGE``'s margin). An axle whose mean speed over the first step
+        (``dt``) was ``v`` and that ended ``T`` later within ``d`` of where it started
+        decelerated at most ``2 (d + v T) / (T (T - dt))``: at least ``a`` all the way
+        puts it ``v T - a T (T - dt) / 2`` along. ``d`` is the sensor's measured motion
+        plus twice the tolerance (the sensor swings about the axle with the pitch, and
+        the match errs). Over 0.3 s at 10 Hz from rest: 2 m/s^2, 11.5 deg; with a first
+        step at 0.4 m/s, 31 deg. Where the first step spans the whole baseline (one scan
+        kept, below 3.3 Hz) nothing bounds it: pi/2.
+        """
+        span, first = self.span_s, self.first_step_s
+        if first >= span or not math.isfinite(self.first_speed_mps):
             return 0.5 * math.pi
-        reach_m = 2.0 * self.tolerance_m + self.start_speed_mps * self.span_s
-        return math.atan(2.0 * reach_m / (self.span_s**2 * GRAVITY_MPS2))
+        reach_m = math.hypot(self.since.tx_m, self.since.ty_m) + 2.0 * self.tolerance_m
+        most_mps2 = 2.0 * (reach_m + self.first_speed_mps * span) / (span * (span - first))
+        return math.atan(most_mps2 / GRAVITY_MPS2)
 
     def at(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
@@ -246,9 +258,19 @@ class Earlier(NamedTuple):
 
     ranges: np.ndarray  # its ranges (mid-scan frame, unstretched), m
     since: Motion  # the motion from it to now
-    seen: bool  # every step since was measured along every direction
+    travel_seen: bool  # every step since was measured along every direction
     span_s: float  # the time from it to now, s
-    start_speed_mps: float  # the speed over the first step after it, m/s (inf: unknown)
+    first_step_s: float  # the time from it to the scan after it (now, if none kept), s
+    first_speed_mps: float  # the sensor's mean speed over that first step, m/s
+
+
+class _Kept(NamedTuple):
+    """A scan :class:`RecentScans` keeps."""
+
+    stamp: float  # s
+    ranges: np.ndarray  # m (mid-scan frame, unstretched)
+    pose: Motion  # from the fixed frame to the scan's
+    unseen_before: int  # how many steps before it the matches could not see
 
 
 class RecentScans:
@@ -263,13 +285,13 @@ class RecentScans:
 
     def __init__(self, baseline_s: float) -> None:
         self.baseline_s = baseline_s
-        self.scans: list[tuple[float, np.ndarray, Motion, int]] = []  # (stamp, ranges,
-        # pose, unseen steps before it)
+        self.scans: list[_Kept] = []
         self.pose = Motion()  # the fixed frame -> the latest scan's
         self.unseen_steps = 0  # steps so far whose drive the matches could not see
 
     def clear(self) -> None:
-        """Forget them (a re-baseline)."""
+        """Forget them (a re-baseline). The count of unseen steps runs on: only its
+        change since a kept scan is asked for."""
         self.scans.clear()
         self.pose = Motion()
 
@@ -283,16 +305,20 @@ class RecentScans:
         """The oldest kept scan, seen from the scan now at ``stamp`` (None: none kept)."""
         if not self.scans:
             return None
-        then, ranges, pose, unseen = self.scans[0]
-        since = pose.inverse().then(self.pose)
+        earliest = self.scans[0]
+        since = earliest.pose.inverse().then(self.pose)
         # the first step after it: to the next kept scan, or to now
-        after, after_pose = (stamp, self.pose) if len(self.scans) < 2 else self.scans[1][0::2]
-        first = pose.inverse().then(after_pose)
-        speed = first.translation_m / (after - then) if after > then else math.inf
-        return Earlier(ranges, since, unseen == self.unseen_steps, stamp - then, speed)
+        after_stamp, after_pose = stamp, self.pose
+        if len(self.scans) > 1:
+            after_stamp, after_pose = self.scans[1].stamp, self.scans[1].pose
+        first_step_s = after_stamp - earliest.stamp
+        first_m = earliest.pose.inverse().then(after_pose).translation_m
+        speed = first_m / first_step_s if first_step_s > 0.0 else math.inf
+        seen = earliest.unseen_before == self.unseen_steps
+        return Earlier(earliest.ranges, since, seen, stamp - earliest.stamp, first_step_s, speed)
 
     def add(self, stamp: float, ranges: np.ndarray) -> None:
         """Take the scan now in, and drop those older than ``baseline_s`` (keeping one)."""
-        self.scans.append((stamp, ranges, self.pose, self.unseen_steps))
-        while stamp - self.scans[0][0] > self.baseline_s:
+        self.scans.append(_Kept(stamp, ranges, self.pose, self.unseen_steps))
+        while stamp - self.scans[0].stamp > self.baseline_s:
             self.scans.pop(0)

@@ -111,12 +111,15 @@ class _MatchOutcome:
         coast: the match failed and the prior carries the motion.
         onset: the match failed on a level scan without odometry: the scan coasts if it
             shows a pitch event (a strong candidate line), else the filter re-baselines.
+        travel_seen: the step's drive was measured in every direction: by the wheels, or
+            by a trusted match with support along all of them (not a guess coasted on).
     """
 
     match: Match
     fresh: bool = False
     coast: bool = False
     onset: bool = False
+    travel_seen: bool = True
 
 
 _AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
@@ -323,10 +326,6 @@ class ImprovedPitchVariationFilter:
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
         unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
-        # the drive of this step was measured in every direction (by the wheels, or a
-        # match with support along all of them): the world-static test may take a sensor
-        # that moved no farther than its tolerance for one that stood
-        travel_seen = pose is not None or match.weak[0] >= WEAK_ROWS
         new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
@@ -338,7 +337,7 @@ class ImprovedPitchVariationFilter:
             outcome.fresh,
             blind,
             unseen_travel,
-            travel_seen,
+            outcome.travel_seen,
         )
         # a floor line held through a turn in place keeps its place in the sensor frame
         held = self._follower.held(scan.stamp, self._recent.pose)
@@ -379,6 +378,7 @@ class ImprovedPitchVariationFilter:
             return _AFRESH
         pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
+        wheels = pose is not None and self._ego.pose is not None  # the prior is odometry's
         match = self._ego.match(
             self._layout,
             prepared.mid_points,
@@ -390,7 +390,7 @@ class ImprovedPitchVariationFilter:
             attitude is not None and attitude.tilted,
         )
         if match.trusted:
-            return _MatchOutcome(match)
+            return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS)
         in_event = 0.0 < self._tilted_s <= self.params.max_event_s
         known = self._ego.reference is not None
         onset = self._tilted_s == 0.0 and known and pose is None
@@ -399,7 +399,7 @@ class ImprovedPitchVariationFilter:
             self._rebaseline()
             return _AFRESH
         coasted = self._ego.coast(match, match.tilt_rad, dt, pose)
-        return _MatchOutcome(coasted, coast=True, onset=onset)
+        return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels)
 
     def _remember(self, prepared: _Prepared, found: _Found, coast: bool) -> None:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
@@ -468,7 +468,7 @@ class ImprovedPitchVariationFilter:
         fresh: bool,
         blind: bool,
         unseen_travel: bool,
-        travel_seen: bool = True,
+        travel_seen: bool,
     ) -> tuple[
         np.ndarray, np.ndarray | None, LevelView | None, WorldStatic | None, np.ndarray | None
     ]:
@@ -557,9 +557,10 @@ class ImprovedPitchVariationFilter:
                 layout,
                 earlier.since,
                 STATIC_TOLERANCE_M,
-                earlier.seen,
+                earlier.travel_seen,
                 earlier.span_s,
-                earlier.start_speed_mps,
+                earlier.first_step_s,
+                earlier.first_speed_mps,
             )
         return new, through, view, static, back
 

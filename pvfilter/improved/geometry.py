@@ -74,7 +74,7 @@ def floor_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.n
 
 
 def floor_shift(
-    tilt_rad: np.ndarray | float, change_rad: float, params: ImprovedParams
+    tilt_rad: np.ndarray | float, change_rad: np.ndarray | float, params: ImprovedParams
 ) -> np.ndarray:
     """How far the floor line of a plane tilted by ``tilt_rad`` moves when the tilt changes
     by ``change_rad``, m (to first order).
@@ -86,7 +86,7 @@ def floor_shift(
     tilt = np.maximum(np.abs(tilt_rad), 1e-3)
     arm = params.lidar_height_m - params.axle_height_m
     slope = arm + params.scanner_height_m(tilt) * np.cos(tilt) / np.sin(tilt) ** 2
-    return slope * abs(change_rad)
+    return slope * np.abs(change_rad)
 
 
 def ceiling_min_distance(tilt_rad: np.ndarray | float, params: ImprovedParams) -> np.ndarray:

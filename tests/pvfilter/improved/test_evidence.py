@@ -119,32 +119,41 @@ def test_standing_a_shallow_line_that_stayed_put_is_a_wall_and_one_that_moved_is
 
 
 def test_a_standing_body_cannot_hold_a_steep_tilt_so_a_steep_line_that_stayed_put_is_a_wall():
-    # holding a tilt takes an acceleration of g tan p: an axle that set out from rest and
-    # stayed within the test's reach (2 x 3 cm) over 0.3 s held at most 7.7 deg, and
-    # beyond it the body falls or is caught. A face 1.4 m behind a LiDAR 0.69 m up implies
-    # a 27 deg tilt: the least change of pitch then moves that line by decimetres where
-    # 0.5 deg moved it by 3 cm
+    # holding a tilt takes an acceleration of g tan p: an axle whose first step of 0.1 s
+    # was still and that ended within the test's reach (2 x 3 cm) 0.3 s on decelerated at
+    # most 2 x 0.06 / (0.3 x 0.2) = 2 m/s^2: 11.5 deg, beyond which the body falls or is
+    # caught. A face 1.4 m behind a LiDAR 0.69 m up implies a 27 deg tilt: the least
+    # change of pitch then moves that line by decimetres where 0.5 deg moved it by 3 cm
     params = ImprovedParams(lidar_height_m=0.69, axle_height_m=0.14)
     level, _ = room_scan(noise_m=0.0)
     layout = BeamLayout.of(level)
     beams = np.flatnonzero(level.valid_mask())
     ranges = ranges_of(level)
 
-    def stood(start_speed_mps, seen=True):
-        return WorldStatic(ranges, ranges, directions_of(level), layout, Motion(), 0.03,
-                           seen, 0.3, start_speed_mps)  # fmt: skip
+    def stood(first_speed_mps, seen=True, first_step_s=0.1, since=None):
+        since = Motion() if since is None else since
+        return WorldStatic(ranges, ranges, directions_of(level), layout, since, 0.03,
+                           seen, 0.3, first_step_s, first_speed_mps)  # fmt: skip
 
-    assert math.degrees(stood(0.0).hold_tilt_rad) == pytest.approx(7.74, abs=0.01)
-    # an axle that braked from 0.4 m/s to a stop within the reach could hold 22 deg
-    assert math.degrees(stood(0.4).hold_tilt_rad) == pytest.approx(22.2, abs=0.1)
-    assert stood(math.inf).hold_tilt_rad == pytest.approx(math.pi / 2)  # unknown: none
-    steep = np.array([math.radians(27.0)])
+    assert math.degrees(stood(0.0).hold_tilt_rad) == pytest.approx(11.53, abs=0.01)
+    # a first step at 0.4 m/s: it may have braked hard all the way and come back
+    assert math.degrees(stood(0.4).hold_tilt_rad) == pytest.approx(31.45, abs=0.01)
+    # the sensor's measured motion widens the reach: 4 cm more
+    moved = stood(0.0, since=Motion(tx_m=0.04)).hold_tilt_rad
+    assert math.tan(moved) * 9.81 == pytest.approx(2.0 * 0.10 / (0.3 * 0.2))
+    # unknown: a first step over the whole baseline (one scan kept), or no speed
+    assert stood(0.0, first_step_s=0.3).hold_tilt_rad == pytest.approx(math.pi / 2)
+    assert stood(math.inf).hold_tilt_rad == pytest.approx(math.pi / 2)
+    assert WorldStatic(ranges, ranges, directions_of(level), layout, Motion(),
+                       0.03).hold_tilt_rad == pytest.approx(math.pi / 2)  # fmt: skip
+    steep = np.array([math.radians(27.0), -math.radians(27.0)])
     hold = stood(0.0).hold_tilt_rad
-    change = standing_pitch_change(steep, hold)[0]
-    assert change == pytest.approx(STANDING_FALL_SHARE * (steep[0] - hold))
+    change = standing_pitch_change(steep, hold)
+    assert change[0] == pytest.approx(STANDING_FALL_SHARE * (steep[0] - hold))
+    assert change[1] == change[0]  # nose up alike
     assert standing_pitch_change(np.array([math.radians(5.0)]), hold)[0] == STANDING_PITCH_CHANGE
-    assert floor_shift(steep, STANDING_PITCH_CHANGE, params)[0] < 0.06  # no telling before
-    shift = floor_shift(steep, change, params)[0]
+    assert floor_shift(steep[0], STANDING_PITCH_CHANGE, params) < 0.06  # no telling before
+    shift = floor_shift(steep[0], change[0], params)
     assert shift > 0.1  # well beyond twice the tolerance: it tells
     static, telling = stood(0.0).at(beams, np.full(beams.size, shift))
     assert telling.all() and static.all()  # it stayed put while the sensor stood: a wall
@@ -183,12 +192,17 @@ def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
         recent.add(0.1 * k, np.full(3, float(k)))
     assert earlier.ranges[0] == 2.0  # 0.3 s before the last
     assert earlier.since.tx_m == pytest.approx(-0.4 - 0.5 - 0.6)
-    assert earlier.span_s == pytest.approx(0.3)
-    assert earlier.start_speed_mps == pytest.approx(4.0)  # the step after it: 0.4 m
-    assert earlier.seen  # the step the matches did not see came before that scan
-    assert [round(s[0], 6) for s in recent.scans] == [0.3, 0.4, 0.5]
+    assert earlier.span_s == pytest.approx(0.3) and earlier.first_step_s == pytest.approx(0.1)
+    assert earlier.first_speed_mps == pytest.approx(4.0)  # the step after it: 0.4 m
+    assert earlier.travel_seen  # the step the matches did not see came before that scan
+    assert [round(kept.stamp, 6) for kept in recent.scans] == [0.3, 0.4, 0.5]
     recent.advance(Motion(tx_m=-0.1), seen=False)
-    assert not recent.oldest(0.6).seen
+    assert not recent.oldest(0.6).travel_seen
     recent.clear()
     recent.advance(Motion())
     assert recent.oldest(0.7) is None
+    # at 2 Hz one scan is kept: its first step is the whole baseline
+    slow = RecentScans(0.3)
+    slow.add(0.0, np.ones(3))
+    slow.advance(Motion(tx_m=-0.05))
+    assert slow.oldest(0.5).first_step_s == pytest.approx(0.5) == slow.oldest(0.5).span_s
