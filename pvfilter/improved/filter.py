@@ -204,7 +204,7 @@ class ImprovedPitchVariationFilter:
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
         odometry_prior = prepared.pose is not None and self._ego.pose is not None
-        outcome = self._match(prepared, prior, fresh)
+        outcome = self._match(prepared, prior, fresh, odometry_prior)
         if not outcome.fresh:  # the view's doubt along what the match could not see
             weak = SEEN if odometry_prior else outcome.match.weak  # the wheels measure it
             span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
@@ -360,7 +360,11 @@ class ImprovedPitchVariationFilter:
         return _Found(detection, new, view, level_ranges, back, static)
 
     def _match(
-        self, prepared: _Prepared, prior: tuple[Motion, tuple[float, float]], fresh: bool
+        self,
+        prepared: _Prepared,
+        prior: tuple[Motion, tuple[float, float]],
+        fresh: bool,
+        wheels: bool,
     ) -> _MatchOutcome:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
         prior.
@@ -371,14 +375,13 @@ class ImprovedPitchVariationFilter:
         knows the event began. Without odometry such a level scan coasts on the guess
         too, as an **onset**: if it shows no pitch event after all (no strong candidate
         line), the filter re-baselines and the scan removes nothing. Otherwise an
-        untrusted match re-baselines.
+        untrusted match re-baselines. ``wheels``: the prior is the wheel odometry's.
         """
         if fresh:
             self._rebaseline()
             return _AFRESH
         pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
-        wheels = pose is not None and self._ego.pose is not None  # the prior is odometry's
         match = self._ego.match(
             self._layout,
             prepared.mid_points,
