@@ -47,6 +47,7 @@ from pvfilter.improved.follow import FloorFollower, travelling_line
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
+from pvfilter.improved.noise import RangeNoise
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.result import ImprovedResult, removal
 from pvfilter.improved.roll import RollBound
@@ -148,7 +149,9 @@ class ImprovedPitchVariationFilter:
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
-        self._spacing_params = self.params  # the point counts for the scan's beam spacing
+        self._spacing_params = self.params  # the point counts for the scan's beam spacing,
+        # and the distances for the scanner's range noise
+        self._noise = RangeNoise()
         self._roll = RollBound(self.params)
         self._line_params = self.params  # and the roll its confident lines measured
         self._segment_params = self.params  # and the lean that roll gives a floor line
@@ -175,7 +178,10 @@ class ImprovedPitchVariationFilter:
         self._attitude.reset()
         self._roll.reset()
         self._body.reset()
-        self._line_params = self._segment_params = self._spacing_params
+        self._noise.reset()  # (the same scans then give the same parameters)
+        self._spacing_params = self._line_params = self._segment_params = self.params
+        if self._layout is not None:
+            self._scanner_params()
 
     def process(
         self,
@@ -270,6 +276,8 @@ class ImprovedPitchVariationFilter:
         silent_body = self._body.silent_body(body, no_echo, dt, self.params.memory_timeout_s)
         if silent_body is not None:  # the body again, too close: unmeasured (body.py)
             no_echo = no_echo & ~silent_body
+        if self._noise.update(ranges):  # the scanner's range noise, measured on its scans
+            self._scanner_params()
         points = layout.points(ranges)
         beams = indices(valid)
         segments = segment_scan(
@@ -652,6 +660,15 @@ class ImprovedPitchVariationFilter:
         self._tilted_s = self._tilted_s + dt if tilted else 0.0
         return not tilted or (self._tilted_s > self.params.max_event_s and not travelling)
 
+    def _scanner_params(self) -> None:
+        """The parameters for the scanner: its beam spacing, its range noise as measured
+        so far, and the roll learnt (:meth:`ImprovedParams.for_beam_spacing`,
+        :meth:`ImprovedParams.for_range_noise`)."""
+        spacing = self.params.for_beam_spacing(self._layout.increment)
+        self._spacing_params = spacing.for_range_noise(self._noise.noise_m)
+        self._line_params = self._roll.applied(self._spacing_params)
+        self._segment_params = self._roll.segmenting(self._spacing_params)
+
     def _start(self, scan: Scan) -> tuple[bool, float]:
         """Check stamp and beams: does the scan start afresh, and the time step, s."""
         previous = self._previous_stamp
@@ -664,9 +681,8 @@ class ImprovedPitchVariationFilter:
         if not fits:
             self._layout = BeamLayout.of(scan)
             self._body.reset()
-            self._spacing_params = self.params.for_beam_spacing(self._layout.increment)
-            self._line_params = self._roll.applied(self._spacing_params)
-            self._segment_params = self._roll.segmenting(self._spacing_params)
+            self._noise.reset()
+            self._scanner_params()
         dt = 0.0 if previous is None else scan.stamp - previous
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0

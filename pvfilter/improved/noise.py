@@ -47,3 +47,38 @@ def range_noise_m(ranges: np.ndarray) -> float:
     if second.size == 0:
         return math.nan
     return float(np.median(np.abs(second, out=second))) / _MEDIAN_PER_SIGMA
+
+
+NOISE_WINDOW_SCANS = 25  # scans: the scanner's noise is the median of this many estimates
+NOISE_STEP_M = 0.0025  # m: the noise the parameters follow is rounded up to this step
+# (the parameters are worked out again only when it changes)
+
+
+class RangeNoise:
+    """The scanner's range noise, followed over the scans: the median of the last
+    ``NOISE_WINDOW_SCANS`` estimates (:func:`range_noise_m`), rounded up to
+    ``NOISE_STEP_M``. One scan's estimate varies with the scene (clutter inflates it); the
+    scanner's noise does not."""
+
+    def __init__(self) -> None:
+        self._estimates: list[float] = []
+        self.noise_m = math.nan  # m (NaN: no estimate yet)
+
+    def reset(self) -> None:
+        """Forget the estimates (another scanner's scans may follow)."""
+        self._estimates.clear()
+        self.noise_m = math.nan
+
+    def update(self, ranges: np.ndarray) -> bool:
+        """Take a scan's ranges (m, NaN or inf where no return); True where the noise the
+        parameters follow changed."""
+        estimate = range_noise_m(ranges)
+        if estimate != estimate:  # NaN: no three consecutive returns
+            return False
+        self._estimates.append(estimate)
+        if len(self._estimates) > NOISE_WINDOW_SCANS:
+            del self._estimates[0]
+        noise = math.ceil(float(np.median(self._estimates)) / NOISE_STEP_M) * NOISE_STEP_M
+        changed = noise != self.noise_m
+        self.noise_m = noise
+        return changed

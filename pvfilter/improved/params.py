@@ -22,6 +22,8 @@ import numpy as np
 
 from pvfilter.checks import check_flag, check_integer, check_number
 
+LINE_NOISE_SIGMAS = 3.0  # standard deviations of the range noise within which returns
+# of one line lie (ImprovedParams.for_range_noise)
 REFERENCE_SPACING_RAD = math.radians(0.5)  # rad: the beam spacing the point counts are set
 # for (720 beams a revolution); see ImprovedParams.for_beam_spacing
 
@@ -252,6 +254,33 @@ class ImprovedParams:
             down_side_min_new=scaled(self.down_side_min_new, 5),
             extend_beams=scaled(self.extend_beams, 2),
         )
+
+    def for_range_noise(self, noise_m: float) -> ImprovedParams:
+        """These parameters for a scanner whose ranges scatter by ``noise_m`` (one standard
+        deviation, m; measured on its scans, :class:`pvfilter.improved.noise.RangeNoise`).
+
+        The two distances that say which returns lie on one line grow with the noise where
+        it outgrows them, never below what they were set to, to ``LINE_NOISE_SIGMAS``
+        standard deviations: ``break_distance_m`` of the difference of two ranges (two
+        neighbours on one surface are one segment), ``extend_tolerance_m`` of one range (a
+        return that near a fitted line lies on it). A scanner with 5 cm of noise, or a
+        good one on a grazing floor, where its beam's footprint stretches along the
+        floor, scatters a floor line's returns by +-0.15 m along their beams; with
+        distances set for about 1.5 cm the line falls apart into pieces too short and
+        too ragged to score.
+
+        The free-space margin and the world-static test's tolerance stay as set: what a
+        return is compared with there has been measured many times (the level view, the
+        nearest of three beams) or is one return of a surface facing the beam, and
+        widening them with the scan's noise cost more than it gave.
+        """
+        if not noise_m > 0.0:  # (NaN: unknown; nothing widens)
+            return self
+        break_m = max(self.break_distance_m, LINE_NOISE_SIGMAS * math.sqrt(2.0) * noise_m)
+        extend_m = max(self.extend_tolerance_m, LINE_NOISE_SIGMAS * noise_m)
+        if break_m == self.break_distance_m and extend_m == self.extend_tolerance_m:
+            return self
+        return dataclasses.replace(self, break_distance_m=break_m, extend_tolerance_m=extend_m)
 
     def scanner_height_m(self, tilt_rad: float | np.ndarray) -> float | np.ndarray:
         """Height of the scanner above the floor with the robot tilted by ``tilt_rad``, m."""

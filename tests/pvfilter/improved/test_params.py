@@ -62,3 +62,17 @@ def test_point_counts_scale_with_the_beam_spacing():
     assert (
         dataclasses.replace(coarse, min_points=8, down_side_min_new=20, extend_beams=10) == params
     )
+
+
+def test_line_distances_grow_with_the_range_noise():
+    # two neighbours on one surface lie within 3 standard deviations of the difference of
+    # two ranges, a return within 3 of its line; nothing narrows below what was set
+    params = ImprovedParams()
+    assert params.for_range_noise(0.01) is params  # 1 cm: the defaults cover it
+    assert params.for_range_noise(math.nan) is params  # not measured yet
+    noisy = params.for_range_noise(0.05)
+    assert noisy.break_distance_m == pytest.approx(3.0 * math.sqrt(2.0) * 0.05)
+    assert noisy.extend_tolerance_m == pytest.approx(0.15)
+    assert dataclasses.replace(noisy, break_distance_m=0.15, extend_tolerance_m=0.03) == params
+    wide = ImprovedParams(break_distance_m=0.5).for_range_noise(0.05)
+    assert wide.break_distance_m == 0.5 and wide.extend_tolerance_m == pytest.approx(0.15)
