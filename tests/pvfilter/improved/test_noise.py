@@ -6,7 +6,13 @@ import warnings
 import numpy as np
 import pytest
 
-from pvfilter.improved.noise import NOISE_STEP_M, NOISE_WINDOW_SCANS, RangeNoise, range_noise_m
+from pvfilter.improved.noise import (
+    NOISE_EVERY_SCANS,
+    NOISE_STEP_M,
+    NOISE_WINDOW_SCANS,
+    RangeNoise,
+    range_noise_m,
+)
 
 from .conftest import room_scan
 
@@ -73,18 +79,22 @@ def test_the_scanners_noise_is_followed_over_the_scans():
     noise = RangeNoise()
     assert math.isnan(noise.noise_m)
     assert not noise.update(np.full(10, np.nan))  # no estimate: nothing changes
+    noise.reset()
     assert noise.update(wall_ranges(0.05, seed=0))  # changed: the parameters follow
     assert noise.noise_m == pytest.approx(0.05, abs=0.25 * 0.05 + NOISE_STEP_M)
     assert noise.noise_m / NOISE_STEP_M == pytest.approx(round(noise.noise_m / NOISE_STEP_M))
+    # one scan in every NOISE_EVERY_SCANS is measured
+    for _ in range(NOISE_EVERY_SCANS - 1):
+        assert not noise.update(wall_ranges(0.5))
     # a few cluttered scans do not move the median of the window
-    for seed in range(1, NOISE_WINDOW_SCANS):
+    for seed in range(1, NOISE_WINDOW_SCANS * NOISE_EVERY_SCANS):
         noise.update(wall_ranges(0.05, seed))
     settled = noise.noise_m
-    for _ in range(5):
+    for _ in range(5 * NOISE_EVERY_SCANS):
         assert not noise.update(np.where(np.arange(241) % 2 == 0, 1.0, 5.0))
     assert noise.noise_m == settled
     # a quieter scanner takes over within a window
-    for seed in range(NOISE_WINDOW_SCANS):
+    for seed in range(NOISE_WINDOW_SCANS * NOISE_EVERY_SCANS):
         noise.update(wall_ranges(0.005, seed))
     assert noise.noise_m <= 0.0075
     noise.reset()
