@@ -149,9 +149,9 @@ class ImprovedPitchVariationFilter:
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None
+        self._noise = RangeNoise()  # the scanner's range noise, measured on its scans
         self._spacing_params = self.params  # the point counts for the scan's beam spacing,
-        # and the distances for the scanner's range noise
-        self._noise = RangeNoise()
+        # and the line distances for the scanner's range noise
         self._roll = RollBound(self.params)
         self._line_params = self.params  # and the roll its confident lines measured
         self._segment_params = self.params  # and the lean that roll gives a floor line
@@ -171,16 +171,25 @@ class ImprovedPitchVariationFilter:
         :mod:`pvfilter.improved.roll`)."""
         return self._line_params.max_roll_deg
 
+    @property
+    def range_noise_m(self) -> float:
+        """The scanner's range noise the line distances follow now, m (NaN: not measured
+        yet; :class:`~pvfilter.improved.noise.RangeNoise`,
+        :meth:`ImprovedParams.for_range_noise`)."""
+        return self._noise.noise_m
+
     def reset(self) -> None:
-        """Forget the history: the next scan starts a new sequence."""
+        """Forget the history, the scanner's measured range noise too: the next scan starts
+        a new sequence, as for a new filter."""
         self._new_sequence = True
         self._previous_stamp = None
         self._attitude.reset()
         self._roll.reset()
         self._body.reset()
-        self._noise.reset()  # (the same scans then give the same parameters)
-        self._spacing_params = self._line_params = self._segment_params = self.params
-        if self._layout is not None:
+        self._noise.reset()
+        if self._layout is None:
+            self._spacing_params = self._line_params = self._segment_params = self.params
+        else:
             self._scanner_params()
 
     def process(

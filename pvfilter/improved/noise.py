@@ -1,10 +1,13 @@
-"""The scanner's range noise, measured on one scan alone.
+"""The scanner's range noise, measured on its scans.
 
-The ego-motion's scan match is judged by its residuals
+Two stages ask for it. The ego-motion's scan match is judged by its residuals
 (:func:`pvfilter.improved.egomotion.fit_trusted`): a right fit leaves about the range
 noise, a wrong one far more. A fixed bound for them suits one class of LiDAR only: a
 scanner with 5 cm of range noise leaves about 5 cm on right fits, and a 5 cm bound refused
-44 % of its matches.
+44 % of its matches. And the distances that say which returns lie on one line (the
+segmentation's break distance, a line's tolerance) follow the scanner's noise, as
+:class:`RangeNoise` follows it over the scans
+(:meth:`pvfilter.improved.params.ImprovedParams.for_range_noise`).
 
 Consecutive beams are a fraction of a degree apart: along a surface the range changes
 smoothly from beam to beam, and its second difference, ``r[i-1] - 2 r[i] + r[i+1]``, is
@@ -15,6 +18,7 @@ over the scan is not moved by the few beams at range jumps and corners.
 
 from __future__ import annotations
 
+import collections
 import math
 
 import numpy as np
@@ -39,8 +43,7 @@ def range_noise_m(ranges: np.ndarray) -> float:
         slope), over ``0.6745 sqrt(6)``; NaN where no three consecutive beams return.
     """
     returns = np.where(np.isfinite(ranges), ranges, np.nan)  # inf - inf would warn
-    # r[i-1] - 2 r[i] + r[i+1], written into one array (a level scan's fit over the bound
-    # is rare: this runs on noisy scanners' scans only)
+    # r[i-1] - 2 r[i] + r[i+1], written into one array
     second = returns[:-2] - 2.0 * returns[1:-1]
     second += returns[2:]
     second = second[second == second]  # NaN where a beam has no return
@@ -49,43 +52,57 @@ def range_noise_m(ranges: np.ndarray) -> float:
     return float(np.median(np.abs(second, out=second))) / _MEDIAN_PER_SIGMA
 
 
-NOISE_WINDOW_SCANS = 25  # the scanner's noise is the median of this many estimates
+NOISE_WINDOW = 25  # the scanner's noise is the median of this many scans' estimates
 NOISE_EVERY_SCANS = 4  # scans: one is measured in every so many (the noise is the
 # scanner's and changes slowly, if at all; measuring every scan cost 7 % of the filter's time)
-NOISE_STEP_M = 0.0025  # m: the noise the parameters follow is rounded up to this step
-# (the parameters are worked out again only when it changes)
+NOISE_MIN_ESTIMATES = 3  # the median of fewer estimates is no measure: one cluttered scan
+# at the start would set the parameters alone
+NOISE_HYSTERESIS = 0.25  # the noise followed moves only where the median of the window
+# differs from it by more than this share: the parameters are worked out again rarely, and
+# a scanner does not flap between two values (the median of 25 estimates varies by a few
+# per cent)
+MAX_LINE_NOISE_M = 0.1  # m: the noise followed is never more: no scanner a filter can use
+# scatters more, while a scene of range jumps (clutter, a garbled scan) measures more
 
 
 class RangeNoise:
-    """The scanner's range noise, followed over the scans: the median of the last
-    ``NOISE_WINDOW_SCANS`` estimates (:func:`range_noise_m`) of one scan in every
-    ``NOISE_EVERY_SCANS``, rounded up to ``NOISE_STEP_M``. One scan's estimate varies with
-    the scene (clutter inflates it); the scanner's noise does not."""
+    """The scanner's range noise (one standard deviation), followed over the scans: the
+    median of the estimates (:func:`range_noise_m`) of the last ``NOISE_WINDOW`` scans
+    measured, one in every ``NOISE_EVERY_SCANS``, once there are ``NOISE_MIN_ESTIMATES``;
+    it moves only by more than ``NOISE_HYSTERESIS`` and never beyond ``MAX_LINE_NOISE_M``.
+    One scan's estimate varies with the scene (clutter inflates it); the scanner's noise
+    does not.
+
+    The estimate is the noise at the ranges most returns lie at: where the noise grows
+    with the range, lines nearer the sensor scatter less than it says.
+    """
 
     def __init__(self) -> None:
-        self._estimates: list[float] = []
-        self._scans = 0  # scans taken since the last reset
-        self.noise_m = math.nan  # m (NaN: no estimate yet)
+        self._estimates: collections.deque[float] = collections.deque(maxlen=NOISE_WINDOW)
+        self._due = 0  # scans until the next is measured
+        self.noise_m = math.nan  # m (NaN: no measure yet)
 
     def reset(self) -> None:
         """Forget the estimates (another scanner's scans may follow)."""
         self._estimates.clear()
-        self._scans = 0
+        self._due = 0
         self.noise_m = math.nan
 
     def update(self, ranges: np.ndarray) -> bool:
-        """Take a scan's ranges (m, NaN or inf where no return); True where the noise the
-        parameters follow changed."""
-        self._scans += 1
-        if (self._scans - 1) % NOISE_EVERY_SCANS:
+        """Take a scan's ranges (m, NaN or inf where no return); True where the noise
+        followed changed (the parameters follow it)."""
+        if self._due > 0:
+            self._due -= 1
             return False
         estimate = range_noise_m(ranges)
-        if estimate != estimate:  # NaN: no three consecutive returns
+        if estimate != estimate:  # NaN: no three consecutive returns; the next scan is due
             return False
+        self._due = NOISE_EVERY_SCANS - 1
         self._estimates.append(estimate)
-        if len(self._estimates) > NOISE_WINDOW_SCANS:
-            del self._estimates[0]
-        noise = math.ceil(float(np.median(self._estimates)) / NOISE_STEP_M) * NOISE_STEP_M
-        changed = noise != self.noise_m
-        self.noise_m = noise
-        return changed
+        if len(self._estimates) < NOISE_MIN_ESTIMATES:
+            return False
+        median = min(float(np.median(self._estimates)), MAX_LINE_NOISE_M)
+        if abs(median - self.noise_m) <= NOISE_HYSTERESIS * self.noise_m:  # NaN: False
+            return False
+        self.noise_m = median
+        return True

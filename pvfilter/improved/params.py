@@ -263,16 +263,14 @@ class ImprovedParams:
         it outgrows them, never below what they were set to, to ``LINE_NOISE_SIGMAS``
         standard deviations: ``break_distance_m`` of the difference of two ranges (two
         neighbours on one surface are one segment), ``extend_tolerance_m`` of one range (a
-        return that near a fitted line lies on it). A scanner with 5 cm of noise, or a
-        good one on a grazing floor, where its beam's footprint stretches along the
-        floor, scatters a floor line's returns by +-0.15 m along their beams; with
-        distances set for about 1.5 cm the line falls apart into pieces too short and
-        too ragged to score.
+        return that near a fitted line lies on it). The defaults cover 1 cm of noise (the
+        line tolerance, 3 cm) and 3.5 cm (the break distance, 15 cm). A scanner with 10 cm
+        of noise scatters a floor line 2 m out over +-0.25 m along its beams; with the
+        defaults the line falls apart into pieces too short and too ragged to score.
 
-        The free-space margin and the world-static test's tolerance stay as set: what a
-        return is compared with there has been measured many times (the level view, the
-        nearest of three beams) or is one return of a surface facing the beam, and
-        widening them with the scan's noise cost more than it gave.
+        The free-space margin, the world-static test's tolerance and the chord stay as
+        set: widened with the noise as well, they cost more than they gave on scans from
+        generators written apart from this project.
         """
         if not noise_m > 0.0:  # (NaN: unknown; nothing widens)
             return self

@@ -103,11 +103,11 @@ def pitch_at(k: int) -> float:
     return 0.0
 
 
-def run_rolled(roll_deg: float, learn_roll: bool):
+def run_rolled(roll_deg: float, learn_roll: bool, noise_m: float = 0.01):
     """A standing robot whose plane is rolled ``roll_deg``, through the events of
-    :func:`pitch_at`, 1 cm of range noise, a rotating sweep: the filter, and per scan of
-    the last (shallow) event its floor beams and how many of them and of the rest it
-    removed."""
+    :func:`pitch_at`, ``noise_m`` of range noise, a rotating sweep: the filter, and per
+    scan of the last (shallow) event its floor beams and how many of them and of the rest
+    it removed."""
     pvf = ImprovedPitchVariationFilter(dataclasses.replace(LEVEL_HEIGHT, learn_roll=learn_roll))
     rng = np.random.default_rng(0)
     shallow = []
@@ -119,7 +119,7 @@ def run_rolled(roll_deg: float, learn_roll: bool):
             walls=room_segments(6, 6, 2.5, 2.5),
         )
         returns = np.isfinite(scan.ranges) & (scan.ranges > 0.0)
-        noisy = np.where(returns, scan.ranges + rng.normal(0.0, 0.01, len(scan)), scan.ranges)
+        noisy = np.where(returns, scan.ranges + rng.normal(0.0, noise_m, len(scan)), scan.ranges)
         scan = dataclasses.replace(scan.with_ranges(noisy), time_increment=0.1 / len(scan))
         removed = pvf.process(scan).removed
         if k >= 70 and np.count_nonzero(hit == 2):
@@ -148,3 +148,17 @@ def test_a_level_plane_keeps_the_given_bound():
     assert pvf.roll_bound_deg == ImprovedParams().max_roll_deg
     pvf.reset()
     assert pvf.roll_bound_deg == ImprovedParams().max_roll_deg
+
+
+def test_a_learnt_roll_and_the_measured_noise_widen_the_parameters_together():
+    # the lean gates widened to the roll the lines measured, and the line distances to the
+    # noise the scans show: each stage's parameters carry both, whichever came last
+    pvf, _ = run_rolled(4.0, learn_roll=True, noise_m=0.05)
+    assert pvf.roll_bound_deg == pytest.approx(4.0 + ROLL_MARGIN_DEG, abs=0.2)
+    assert pvf.range_noise_m == pytest.approx(0.05, rel=0.25)
+    widened = ImprovedParams().for_range_noise(pvf.range_noise_m)
+    for stage in (pvf._line_params, pvf._segment_params):  # (the lines', the segmentation's)
+        assert stage.break_distance_m == widened.break_distance_m > 0.15
+        assert stage.extend_tolerance_m == widened.extend_tolerance_m > 0.03
+    assert pvf._line_params.max_roll_deg == pvf.roll_bound_deg
+    assert pvf._segment_params.line_angle_deg > ImprovedParams().line_angle_deg
