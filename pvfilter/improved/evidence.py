@@ -161,11 +161,9 @@ class WorldStatic:
 
     Where the sensor turned, the floor line of a tilt held through the turn keeps its
     place in the sensor frame, and near the foot of its perpendicular the range the turn
-    and the drive bring to a beam can hardly differ from the beam's own: there a surface
-    fixed in the world and one fixed to the sensor predict the same range, and a return
-    tells only where the two predictions lie more than twice the tolerance apart. The
-    drive counts: a wall the sensor backs away from while it turns lies farther by the
-    drive, where a surface fixed to the sensor keeps its range.
+    brings to a beam hardly differs from the beam's own: there a surface fixed in the
+    world and one fixed to the sensor predict the same range, and a return tells only
+    where the two predictions lie more than twice the tolerance apart.
 
     Attributes:
         ranges: this scan's ranges per beam (mid-scan frame, unstretched), m; NaN where
@@ -249,9 +247,8 @@ class WorldStatic:
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
             stood = self.travel_seen and math.hypot(since.tx_m, since.ty_m) <= twice
             telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
-        if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam, where
-            # one fixed in the world lies at the turned and moved earlier range
-            telling &= np.abs(earlier + moved - self.previous_ranges.take(beams)) > twice
+        if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
+            telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
 
