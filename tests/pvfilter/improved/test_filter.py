@@ -623,30 +623,46 @@ def test_no_echo_written_as_range_max_or_zero_is_no_echo(no_echo, dtype):
     assert np.any(runs["inf"])  # the floor line was found
 
 
+def drive_through_a_pitch_event(
+    pvf, hall, frames, step_m, peak_deg, half_frames, noise_m=0.01, rewrite=lambda scan: scan
+):
+    """Drive ``pvf`` along x through ``hall``, ``step_m`` a frame at 10 Hz, with one pitch
+    event of ``peak_deg`` over ``half_frames`` frames after ``frames // 2`` (its floor line
+    20 m wide); ``rewrite`` turns each scan into what the filter reads. Returns the floor
+    beams removed, the floor beams with a return, and the other beams removed."""
+    hits = floor_beams = false_alarms = 0
+    for k in range(frames):
+        phase = (k - frames // 2) / half_frames
+        pitch = math.radians(peak_deg) * math.sin(math.pi * phase) if 0 <= phase <= 1 else 0.0
+        floor = NO_SEGMENTS if pitch == 0.0 else cross_line(HEIGHT_M / math.sin(pitch), 20.0)
+        structure = to_sensor(hall, (step_m * k, 0.0, 0.0))
+        scan = segment_scan(np.concatenate((structure, floor)), stamp=0.1 * k, noise_m=noise_m,
+                            rng=np.random.default_rng(k), blocked=BLOCKED_SECTOR)  # fmt: skip
+        on_floor = ray_cast(floor, scan.angles()) < ray_cast(structure, scan.angles())
+        scan = rewrite(scan)
+        result = pvf.process(scan)
+        hits += np.count_nonzero(result.removed & on_floor)
+        floor_beams += np.count_nonzero(on_floor & np.isfinite(scan.ranges))
+        false_alarms += np.count_nonzero(result.removed & ~on_floor)
+    return hits, floor_beams, false_alarms
+
+
 @pytest.mark.parametrize("no_echo", [np.inf, 0.0, "range_max", np.nan])
 def test_floor_lines_in_front_of_open_space_are_found_however_no_echo_is_written(no_echo):
     # driving at walls 15 m ahead with a 12 m scanner, an 8 degree pitch event: the floor
     # lines stand in front of space the scans saw free. Written as 0.0 and read as
     # invalid, the beams told nothing of it, and 30 % of the floor beams were kept; so
     # with NaN unless the scanner is declared to write it for no echo
-    hall = room_segments(15.0, 4.0, 6.0, 6.0)
     params = ImprovedParams(nan_is_no_echo=no_echo != no_echo)  # (NaN only)
-    pvf, hits, floor_beams, false_alarms = ImprovedPitchVariationFilter(params), 0, 0, 0
-    for k in range(50):
-        phase = (k - 25) / 7
-        pitch = math.radians(8.0) * math.sin(math.pi * phase) if 0 <= phase <= 1 else 0.0
-        pose = (0.05 * k, 0.0, 0.0)
-        floor = NO_SEGMENTS if pitch == 0.0 else cross_line(HEIGHT_M / math.sin(pitch), 20.0)
-        structure = to_sensor(hall, pose)
-        rng = np.random.default_rng(k)
-        scan = segment_scan(np.concatenate((structure, floor)), stamp=0.1 * k, noise_m=0.01,
-                            rng=rng, blocked=BLOCKED_SECTOR)  # fmt: skip
-        on_floor = ray_cast(floor, scan.angles()) < ray_cast(structure, scan.angles())
+
+    def written(scan):
         read = scan.range_max if no_echo == "range_max" else no_echo
-        result = pvf.process(scan.with_ranges(np.where(scan.ranges == np.inf, read, scan.ranges)))
-        hits += np.count_nonzero(result.removed & on_floor)
-        floor_beams += np.count_nonzero(on_floor & np.isfinite(scan.ranges))
-        false_alarms += np.count_nonzero(result.removed & ~on_floor)
+        return scan.with_ranges(np.where(scan.ranges == np.inf, read, scan.ranges))
+
+    hits, floor_beams, false_alarms = drive_through_a_pitch_event(
+        ImprovedPitchVariationFilter(params), room_segments(15.0, 4.0, 6.0, 6.0), 50, 0.05,
+        8.0, 7, rewrite=written,
+    )  # fmt: skip
     assert floor_beams > 1000
     assert hits / floor_beams > 0.95 and false_alarms < 0.01 * floor_beams
 
@@ -658,23 +674,14 @@ def test_walls_coming_into_range_of_a_short_range_scanner_are_not_new(range_max)
     # free reaches range_max from where the robot stood then, and less far as it comes
     # closer: taken as free to infinity, the walls that came into range were new, each
     # for up to two seconds (the fourth generator so cut: precision down to 0.18)
-    hall = room_segments(8.0, 4.0, 1.5, 1.5)
-    pvf, hits, floor_beams, false_alarms = ImprovedPitchVariationFilter(), 0, 0, 0
-    for k in range(60):
-        phase = (k - 30) / 7
-        pitch = math.radians(8.0) * math.sin(math.pi * phase) if 0 <= phase <= 1 else 0.0
-        floor = NO_SEGMENTS if pitch == 0.0 else cross_line(HEIGHT_M / math.sin(pitch), 20.0)
-        structure = to_sensor(hall, (0.1 * k, 0.0, 0.0))
-        rng = np.random.default_rng(k)
-        scan = segment_scan(np.concatenate((structure, floor)), stamp=0.1 * k, noise_m=0.01,
-                            rng=rng, blocked=BLOCKED_SECTOR)  # fmt: skip
+    def short(scan):
         ranges = np.where(scan.ranges > range_max, np.inf, scan.ranges)
-        scan = dataclasses.replace(scan, ranges=ranges, range_max=range_max)
-        on_floor = ray_cast(floor, scan.angles()) < ray_cast(structure, scan.angles())
-        result = pvf.process(scan)
-        hits += np.count_nonzero(result.removed & on_floor)
-        floor_beams += np.count_nonzero(on_floor & np.isfinite(scan.ranges))
-        false_alarms += np.count_nonzero(result.removed & ~on_floor)
+        return dataclasses.replace(scan, ranges=ranges, range_max=range_max)
+
+    hits, floor_beams, false_alarms = drive_through_a_pitch_event(
+        ImprovedPitchVariationFilter(), room_segments(8.0, 4.0, 1.5, 1.5), 60, 0.1, 8.0, 7,
+        rewrite=short,
+    )  # fmt: skip
     assert floor_beams > 300
     assert false_alarms < 0.02 * floor_beams, false_alarms
     assert hits / floor_beams > 0.9
@@ -893,21 +900,15 @@ def test_a_noisy_scanners_floor_lines_hold_together(noise_m):
     # it fell apart into pieces too short to score, and two thirds of its beams were kept
     # (8 cm: a third). The filter measures the noise on the scans and widens them to it.
     # At 1 cm (the defaults cover it) nothing widens: no more false alarms than before
-    hall = room_segments(8.0, 4.0, 3.0, 3.0)
-    pvf, hits, floor_beams, false_alarms = ImprovedPitchVariationFilter(), 0, 0, 0
-    for k in range(60):
-        phase = (k - 30) / 8
-        pitch = math.radians(10.0) * math.sin(math.pi * phase) if 0 <= phase <= 1 else 0.0
-        pose = (0.03 * k, 0.0, 0.0)
-        floor = NO_SEGMENTS if pitch == 0.0 else cross_line(HEIGHT_M / math.sin(pitch), 20.0)
-        structure = to_sensor(hall, pose)
-        scan = segment_scan(np.concatenate((structure, floor)), stamp=0.1 * k, noise_m=noise_m,
-                            rng=np.random.default_rng(k), blocked=BLOCKED_SECTOR)  # fmt: skip
-        on_floor = ray_cast(floor, scan.angles()) < ray_cast(structure, scan.angles())
-        result = pvf.process(scan)
-        hits += np.count_nonzero(result.removed & on_floor)
-        floor_beams += np.count_nonzero(on_floor & np.isfinite(scan.ranges))
-        false_alarms += np.count_nonzero(result.removed & ~on_floor)
+    hits, floor_beams, false_alarms = drive_through_a_pitch_event(
+        ImprovedPitchVariationFilter(),
+        room_segments(8.0, 4.0, 3.0, 3.0),
+        60,
+        0.03,
+        10.0,
+        8,
+        noise_m,
+    )
     assert floor_beams > 500
     assert hits / floor_beams > 0.8 and false_alarms < 0.02 * floor_beams, (
         hits / floor_beams,
