@@ -187,10 +187,7 @@ class ImprovedPitchVariationFilter:
         self._roll.reset()
         self._body.reset()
         self._noise.reset()
-        if self._layout is None:
-            self._spacing_params = self._line_params = self._segment_params = self.params
-        else:
-            self._scanner_params()
+        self._scanner_params()
 
     def process(
         self,
@@ -670,10 +667,12 @@ class ImprovedPitchVariationFilter:
         return not tilted or (self._tilted_s > self.params.max_event_s and not travelling)
 
     def _scanner_params(self) -> None:
-        """The parameters for the scanner: its beam spacing, its range noise as measured
-        so far, and the roll learnt (:meth:`ImprovedParams.for_beam_spacing`,
-        :meth:`ImprovedParams.for_range_noise`)."""
-        spacing = self.params.for_beam_spacing(self._layout.increment)
+        """The parameters for the scanner: its beam spacing (none seen yet: as given), its
+        range noise as measured so far, and the roll learnt
+        (:meth:`ImprovedParams.for_beam_spacing`, :meth:`ImprovedParams.for_range_noise`)."""
+        spacing = self.params
+        if self._layout is not None:
+            spacing = spacing.for_beam_spacing(self._layout.increment)
         self._spacing_params = spacing.for_range_noise(self._noise.noise_m)
         self._line_params = self._roll.applied(self._spacing_params)
         self._segment_params = self._roll.segmenting(self._spacing_params)
