@@ -451,6 +451,18 @@ class ImprovedPitchVariationFilter:
             scan.range_max,
             travelling,
         )
+        # the robot's own body is no surface of the world: the view knows nothing there
+        near = prepared.ranges < self.params.min_line_distance_m  # NaN compares False
+        if np.count_nonzero(near) or self._body.tracking:
+            step = detection.motion
+            body = self._body.returning_body(
+                np.where(near, prepared.ranges, np.nan),
+                math.hypot(step.tx_m, step.ty_m),
+                prepared.dt,
+                params.memory_timeout_s,
+            )
+            if body is not None:
+                self._memory.forget(body)
         self._recent.add(scan.stamp, found.level_ranges)
 
     def _across(self, segments: Segments, count: int) -> np.ndarray | None:

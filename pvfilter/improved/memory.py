@@ -55,6 +55,10 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   the world moves off its beams with the turn, and where it came from the scan sees
   something now;
 - a beam's view is forgotten (NaN, unknown) after ``memory_timeout_s`` without a return;
+- so is a beam whose near return is fixed to the sensor, the robot's own body
+  (:mod:`pvfilter.improved.body`, :meth:`LevelMemory.forget`): it moves with the sensor,
+  and carried with the motion as a surface of the world it slid across the beams beside
+  it and stood, decimetres away, in front of everything there;
 - a remembered surface that the sensor passes on the way the motion carries it, nearer
   than the scanner measures (``range_min``, and at least ``NEAREST_SURFACE_M``, its own
   housing), was never one the sensor could meet: a ramp's slope or a floor met at a
@@ -251,6 +255,20 @@ class LevelMemory:
             free_m[view.ranges != np.inf] = np.nan  # (unseen, forgotten: not free)
             object.__setattr__(view, "free_m", free_m)
         return view
+
+    def forget(self, beams: np.ndarray) -> None:
+        """The view knows nothing on ``beams`` (bool per beam): they return the robot's
+        own body (:mod:`pvfilter.improved.body`), which moves with the sensor and is no
+        surface of the world the ego-motion could carry."""
+        state = self.state
+        if state is None:
+            return
+        forget = indices(beams)
+        for values, nothing in zip(_carried(state), _NOTHING, strict=True):
+            values[forget] = nothing
+        state.ranges[forget] = np.nan
+        if state.free_m is not None:
+            state.free_m[forget] = np.nan
 
     def update(
         self,

@@ -201,6 +201,23 @@ def test_a_surface_the_sensor_drives_through_leaves_the_view():
     np.testing.assert_allclose(view.ranges[seen], after.ranges[seen], atol=0.02)
 
 
+def test_forgotten_beams_know_nothing_and_carry_nothing_onto_others():
+    # the robot's body (0.2 m off, on beams 100-139) forgotten after a level scan taught
+    # it: the view knows nothing there, and a drive of 0.2 m carries none of it onto the
+    # beams beside it, which keep the room's walls
+    level, _ = room_scan(noise_m=0.0)
+    body = np.zeros(len(level), bool)
+    body[100:140] = True
+    with_body = level.with_ranges(np.where(body, 0.2, level.ranges))
+    memory = remembered(with_body)
+    memory.forget(body)
+    state = memory.state
+    assert np.isnan(state.ranges[body]).all() and np.isinf(state.ages[body]).all()
+    np.testing.assert_array_equal(state.ranges[~body], ranges_of(level)[~body])
+    moved = memory.view(BeamLayout.of(level), 12.0, Motion(tx_m=0.2), STILL, 0.0, PARAMS)
+    assert not (moved.ranges < 0.5).any()
+
+
 def test_a_view_without_a_return_for_too_long_is_forgotten():
     params = dataclasses.replace(PARAMS, memory_timeout_s=0.25)
     level, _ = room_scan(noise_m=0.0)
