@@ -8,30 +8,41 @@ new (60 beams of one scan removed on a synthetic room). A silent beam that retur
 body within ``memory_timeout_s`` reads it again, out of range: it is unmeasured, not silent.
 
 A body that returns (a mast, a handle, the frame a few decimetres behind a 360° scanner)
-is fixed to the sensor, but the level view takes it for a surface of the world and
-carries it with the ego-motion: driving forward, it slides back across the beams behind
-the sensor, and there, decimetres away, it stood in front of everything. The floor line
-of the next nose-up event behind the robot lay beyond that view, not in front of it, and
-was kept (the eighth independent generator's office: its view behind the robot read
-0.2-0.4 m for 2.5 s while the wall stood 4-7 m away). A return nearer than any floor line
-that keeps its range on its beam while the sensor travels ``BODY_TRAVEL_M`` is the body,
-and the view knows nothing there (:meth:`pvfilter.improved.memory.LevelMemory.forget`).
-A surface of the world that near changes its range on a beam as the sensor passes it;
-one that runs along the travel keeps it, and is taken for the body too, until the sensor
-turns or leaves it: a floor line that settles in front of it is then not new there.
+is fixed to the sensor, but the level view took it for a surface of the world and carried
+it with the ego-motion: driving forward, it slid back across the beams behind the sensor
+and stood there, decimetres away, in front of everything. The floor line of the next
+nose-up event behind the robot lay beyond that view, not in front of it, and was kept.
+
+A return nearer than any floor line can lie (``min_line_distance_m``) that keeps its range
+on its beam while the sensor moves ``BODY_TRAVEL_M`` is the body, and the view knows
+nothing there (:meth:`pvfilter.improved.memory.LevelMemory.forget`). The sensor moves a
+near point across the beams by its own displacement (from where the run of the beam's
+range began, not the sum of the steps: a standing robot's matches jitter by millimetres
+a scan) plus the point's range times the turn. A surface of the world that near changes
+its range on a beam as the sensor passes it or turns; one that runs along the travel
+keeps it, and is taken for the body too while the sensor drives along it. No line can
+be scored there (none lies nearer than ``min_line_distance_m``), but where the sensor
+turns or drives off it, the view knows nothing of it until a level scan teaches it
+again: a floor line that then settles in front of it is not new. A body farther out
+than that (a mast 0.3 m behind a sensor whose nearest floor line lies 0.28 m off) is
+carried as before: a floor line held through a turn in place keeps its range on its
+beams too, and is no body.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-BODY_TRAVEL_M = 0.1  # m: a near return that keeps its range while the sensor travels this
-# far is fixed to the sensor (a wall 0.3 m off, seen 30 deg off its normal, moves 5 cm)
-BODY_TOLERANCE_M = 0.03  # m: a return keeps its range within this: three times a scanner's
-# range noise near the sensor, where it is least (the noise the line distances follow,
-# measured where most returns lie, is larger: as this tolerance it let walls a few
-# decimetres off that the sensor passed keep their range, and forgotten, they were new
-# when they came back: the eighth generator's kitchen, precision 0.71 to 0.35)
+from pvfilter.improved.motion import STILL, Motion
+
+BODY_TRAVEL_M = 0.1  # m: a near return that keeps its range while the sensor moves this far
+# is fixed to the sensor (a wall seen 60 deg off its normal changes its range by half the
+# drive along the beam: 5 cm)
+BODY_TOLERANCE_M = 0.03  # m: a return keeps its range within this of where its run began:
+# about twice a scanner's range noise near the sensor, where the noise is least. The noise
+# the line distances follow is measured where most returns lie, and is larger: taken as
+# this tolerance, it let walls a few decimetres off keep their range as the sensor passed
+# them, and those walls, forgotten, were new when they came back
 
 
 class BodyBeams:
@@ -45,7 +56,7 @@ class BodyBeams:
     def reset(self) -> None:
         """Forget the beams: a new sequence, or another scanner."""
         self._since_s = None
-        self._fixed = _SensorFixed()
+        self._fixed._clear()
 
     @property
     def tracking(self) -> bool:
@@ -53,24 +64,20 @@ class BodyBeams:
         return self._fixed.tracking
 
     def returning_body(
-        self,
-        near_m: np.ndarray,
-        travel_m: float,
-        dt: float,
-        memory_s: float,
+        self, near_m: np.ndarray, step: Motion, dt: float, memory_s: float
     ) -> np.ndarray | None:
         """The beams whose near return is the body: on a beam that kept a near return's
-        range (within ``BODY_TOLERANCE_M``) while the sensor travelled ``BODY_TRAVEL_M``,
-        within ``memory_s``; None: none.
+        range (within ``BODY_TOLERANCE_M``) while the sensor moved it by
+        ``BODY_TRAVEL_M``, within ``memory_s``; None: none.
 
         Args:
             near_m: per beam, its return where nearer than any floor line can lie, m
                 (NaN elsewhere).
-            travel_m: how far the sensor travelled since the previous scan, m.
+            step: the sensor's motion since the previous scan.
             dt: time since the previous scan, s.
             memory_s: how long a beam found so is taken to return the body.
         """
-        return self._fixed.update(near_m, travel_m, dt, memory_s)
+        return self._fixed.update(near_m, step, dt, memory_s)
 
     def silent_body(
         self, body: np.ndarray, no_echo: np.ndarray, dt: float, memory_s: float
@@ -96,39 +103,54 @@ class BodyBeams:
 
 
 class _SensorFixed:
-    """Per beam, the near range it keeps and how far the sensor travelled meanwhile, and
-    how long ago it showed a range fixed to the sensor."""
+    """Per beam, the near range it keeps, and where the sensor stood (position and
+    heading, in the frame of the first scan followed) when that run began; how long ago
+    it showed a range fixed to the sensor."""
 
     def __init__(self) -> None:
+        self._clear()
+
+    def _clear(self) -> None:
+        """Follow nothing."""
+        self._moved = STILL  # the first scan's frame -> the current one
         self._kept_m: np.ndarray | None = None  # per beam, m; NaN: no near return
-        self._travel_m: np.ndarray | None = None  # per beam, m travelled with it kept
+        self._start: np.ndarray | None = None  # per beam, (x m, y m, heading rad)
         self._since_s: np.ndarray | None = None  # per beam, s since it showed the body
 
     @property
     def tracking(self) -> bool:
-        """Near returns have been seen (see :attr:`BodyBeams.tracking`)."""
+        """Near returns have been seen lately (see :attr:`BodyBeams.tracking`)."""
         return self._kept_m is not None
 
     def update(
-        self, near_m: np.ndarray, travel_m: float, dt: float, memory_s: float
+        self, near_m: np.ndarray, step: Motion, dt: float, memory_s: float
     ) -> np.ndarray | None:
         """Take one scan's near returns (see :meth:`BodyBeams.returning_body`)."""
         near = ~np.isnan(near_m)
         if self._kept_m is None or self._kept_m.shape != near_m.shape:
             if not np.count_nonzero(near):
-                return None  # nothing near: nothing to track (the usual case)
+                return None  # nothing near: nothing to follow (the usual case)
+            self._moved = STILL
             self._kept_m = np.full(near_m.shape, np.nan)
-            self._travel_m = np.zeros(near_m.shape)
+            self._start = np.zeros((len(near_m), 3))
             self._since_s = np.full(near_m.shape, np.inf)
-        kept, travel, since = self._kept_m, self._travel_m, self._since_s
+        self._moved = self._moved.then(step)
+        back = self._moved.inverse()  # the sensor's pose in the first scan's frame
+        pose = np.array([back.tx_m, back.ty_m, back.theta_rad])
+        kept, start, since = self._kept_m, self._start, self._since_s
         since += dt
-        travel += travel_m
-        # a near return that left the range it kept (NaN: none kept) starts again from it
-        moved = ~(np.abs(near_m - kept) <= BODY_TOLERANCE_M)
-        restart = near & moved
+        # a near return that left the range its run began with (NaN: no run) starts one
+        restart = near & ~(np.abs(near_m - kept) <= BODY_TOLERANCE_M)
         kept[restart] = near_m[restart]
-        travel[restart] = 0.0
+        start[restart] = pose
         kept[~near] = np.nan
-        since[near & (travel >= BODY_TRAVEL_M)] = 0.0
+        # how far the sensor moved a point at the beam's range since its run began
+        moved_m = np.hypot(pose[0] - start[:, 0], pose[1] - start[:, 1])
+        moved_m += near_m * np.abs(pose[2] - start[:, 2])  # NaN off the near beams
+        since[moved_m >= BODY_TRAVEL_M] = 0.0  # (NaN compares False)
         body = near & (since <= memory_s)
-        return body if np.count_nonzero(body) else None
+        if not np.count_nonzero(body):
+            if not np.count_nonzero(near) and not np.count_nonzero(since <= memory_s):
+                self._clear()  # nothing near, no body lately: follow nothing
+            return None
+        return body

@@ -78,6 +78,8 @@ class _Prepared(NamedTuple):
     Attributes:
         scan: the scan.
         ranges: its ranges, NaN where invalid, m.
+        near: per beam, its return lies nearer than any floor line can: the robot's own
+            body, or something touching it.
         no_echo: per beam, it returned nothing within range (``+inf``).
         points: its points per beam, sensor frame, m, ``(n, 2)`` (NaN where invalid).
         segments: its segments.
@@ -91,6 +93,7 @@ class _Prepared(NamedTuple):
 
     scan: Scan
     ranges: np.ndarray
+    near: np.ndarray
     no_echo: np.ndarray
     points: np.ndarray
     segments: Segments
@@ -278,8 +281,8 @@ class ImprovedPitchVariationFilter:
         ranges = np.where(valid, scan.ranges, np.nan)
         # returns nearer than any floor line can lie are the robot's own body (a mast, a
         # wheel, the frame in the blocked sector) or something touching it
-        body = ranges < self.params.min_line_distance_m  # NaN compares False
-        silent_body = self._body.silent_body(body, no_echo, dt, self.params.memory_timeout_s)
+        near = ranges < self.params.min_line_distance_m  # NaN compares False
+        silent_body = self._body.silent_body(near, no_echo, dt, self.params.memory_timeout_s)
         if silent_body is not None:  # the body again, too close: unmeasured (body.py)
             no_echo = no_echo & ~silent_body
         if self._noise.update(ranges):  # the scanner's range noise, measured on its scans
@@ -306,11 +309,12 @@ class ImprovedPitchVariationFilter:
         # the body moves with the sensor, and would pin the scan match to a robot standing
         # still (in a corridor its walls say nothing of the drive along them). The match,
         # its reference and the world-static test leave it out.
-        if np.count_nonzero(body):
-            mid_points[body] = np.nan
+        if np.count_nonzero(near):
+            mid_points[near] = np.nan
         prepared = _Prepared(
             scan,
             ranges,
+            near,
             no_echo,
             points,
             segments,
@@ -452,12 +456,11 @@ class ImprovedPitchVariationFilter:
             travelling,
         )
         # the robot's own body is no surface of the world: the view knows nothing there
-        near = prepared.ranges < self.params.min_line_distance_m  # NaN compares False
-        if np.count_nonzero(near) or self._body.tracking:
-            step = detection.motion
+        near = prepared.near
+        if self._body.tracking or np.count_nonzero(near):
             body = self._body.returning_body(
                 np.where(near, prepared.ranges, np.nan),
-                math.hypot(step.tx_m, step.ty_m),
+                detection.motion,
                 prepared.dt,
                 params.memory_timeout_s,
             )
@@ -694,6 +697,7 @@ class ImprovedPitchVariationFilter:
         previous = self._previous_stamp
         if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
+            self._body.reset()  # (another recording may follow)
         self._previous_stamp = scan.stamp
         fits = self._layout is not None and self._layout.fits(scan)
         fresh = self._new_sequence or not fits

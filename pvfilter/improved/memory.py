@@ -66,9 +66,10 @@ So the memory keeps, per beam, the range of the level view in the current sensor
   leaves the view; carried on, it came out behind the sensor, a few centimetres away, in
   front of everything there, and the floor line behind a robot climbing that ramp lay
   beyond the view, not new. (The robot's own body at the edge of ``range_min`` mostly
-  ends near the sensor without being passed, and stays; where a drive does pass it, the
-  next scan returns it again.) Only a strip as wide as the scanner's housing is cleared:
-  the rest of such a surface beside the path stays until forgotten or replaced;
+  ends near the sensor without being passed, and stays until it is found fixed to the
+  sensor, above; where a drive does pass it, the next scan returns it again.) Only a
+  strip as wide as the scanner's housing is cleared: the rest of such a surface beside
+  the path stays until forgotten or replaced;
 - a return that has stayed in front of the view for ``max_event_s`` (longer than a pitch
   event lasts) replaces it: the view was wrong. A level scan in which the beam returned
   no echo says nothing of what stands there: it neither stops that clock nor starts it
@@ -263,6 +264,7 @@ class LevelMemory:
         state = self.state
         if state is None:
             return
+        # (in place: the state is this memory's own; view() builds new arrays from it)
         forget = indices(beams)
         for values, nothing in zip(_carried(state), _NOTHING, strict=True):
             values[forget] = nothing
@@ -482,7 +484,8 @@ def _passed_near(
     moves along a nearly straight path in one scan's time: one that came out behind the
     sensor passed through it. One that only ends near it stays: the robot's own body,
     at the edge of ``range_min``, moves a little as the view moves it, but the sensor
-    does not pass it."""
+    does not pass it (the view forgets it once it is found fixed to the sensor:
+    :meth:`LevelMemory.forget`)."""
     candidates = indices(ranges < reach_m)
     if candidates.size == 0:
         return None
