@@ -218,6 +218,19 @@ def test_forgotten_beams_know_nothing_and_carry_nothing_onto_others():
     assert not (moved.ranges < 0.5).any()
 
 
+def test_forgotten_free_beams_are_no_longer_free():
+    level, _ = room_scan(noise_m=0.0)
+    open_space = level.with_ranges(np.full(len(level), np.inf))
+    memory = remembered(open_space)
+    step(memory, open_space)  # a second silent scan: free
+    forgotten = np.arange(len(level)) < 10
+    memory.forget(forgotten)
+    assert np.isnan(memory.state.known_free_m()[forgotten]).all()
+    view = view_of(memory, level)
+    assert np.isnan(view.ranges[forgotten]).all()
+    assert np.isposinf(view.ranges[~forgotten]).all()
+
+
 def test_a_view_without_a_return_for_too_long_is_forgotten():
     params = dataclasses.replace(PARAMS, memory_timeout_s=0.25)
     level, _ = room_scan(noise_m=0.0)
