@@ -9,8 +9,10 @@ filter's operating point; then, per filter, the pooled AUC (every file's counts 
 the mean and lowest AUC over the files and how many fall below ``--target``.
 ``--range-noise M`` adds Gaussian range noise first (a noisier scanner);
 ``--occluded-reads VALUE`` reads every OCCLUDED beam as ``inf``, ``-inf`` or ``nan`` (how
-drivers report the sector the body blocks differs); ``--dropout SHARE`` loses that share of
-the returns as no echo (a scanner that misses dark or shiny surfaces); ``--no-echo-reads
+drivers report the sector the body blocks differs), or as a range in metres (the body
+returns there: a mast or a frame a few decimetres from the sensor; before the noise, which
+scatters it too); ``--dropout SHARE`` loses that share of the returns as no echo (a scanner
+that misses dark or shiny surfaces); ``--no-echo-reads
 VALUE`` writes every beam without an echo as ``0``, ``nan`` or ``range_max`` (how scanners
 write no echo differs; the scores count returns only); ``--angle-jitter BEAMS`` moves each
 scan's ``angle_min`` within half that many beams either way (drivers that take it from each
@@ -74,11 +76,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--occluded-reads",
-        choices=sorted(OCCLUDED_READS),
         metavar="VALUE",
         help="read every OCCLUDED beam (the sector the robot's body blocks) as inf (no "
-        "echo, as some drivers report it), -inf (closer than range_min, REP-117) or nan "
-        "(default: as the files have them)",
+        "echo, as some drivers report it), -inf (closer than range_min, REP-117), nan, or "
+        "a range in m (the body returns there, as a mast or a frame does; default: as the "
+        "files have them)",
     )
     parser.add_argument(
         "--dropout",
@@ -150,6 +152,27 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 OCCLUDED_READS = {"inf": math.inf, "-inf": -math.inf, "nan": math.nan}  # --occluded-reads
+
+
+def occluded_read(text: str | None) -> float | None:
+    """What ``--occluded-reads`` asks every OCCLUDED beam to read, m: ``inf``, ``-inf``,
+    ``nan``, or a range > 0 (the body returns there); None: as the files have it."""
+    if text is None:
+        return None
+    if text in OCCLUDED_READS:
+        return OCCLUDED_READS[text]
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value < math.inf:  # (NaN: not a number)
+        raise ValueError(
+            f"--occluded-reads: inf, -inf, nan or a range > 0 m (the body returns there), "
+            f"got {text!r}"
+        )
+    return value
+
+
 MAX_ANGLE_JITTER_BEAMS = 100.0  # --angle-jitter: beyond this it is no jitter but a turn
 NO_ECHO_READS = {"0": 0.0, "nan": math.nan, "range_max": "range_max"}  # --no-echo-reads
 
@@ -165,6 +188,7 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(f"--target: an AUC is in [0, 1], got {args.target}")
     if not 0.0 <= args.range_noise < math.inf:
         raise ValueError(f"--range-noise: a standard deviation >= 0 m, got {args.range_noise}")
+    occluded = occluded_read(args.occluded_reads)
     if not 0.0 <= args.dropout <= 1.0:
         raise ValueError(f"--dropout: a share in [0, 1], got {args.dropout}")
     if args.imu_nose_up and "imu" not in args.inputs:
@@ -207,7 +231,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 args.inputs,
                 name=names[path],
                 range_noise_m=args.range_noise,
-                occluded_reads=OCCLUDED_READS.get(args.occluded_reads),
+                occluded_reads=occluded,
                 dropout_share=args.dropout,
                 no_echo_reads=NO_ECHO_READS.get(args.no_echo_reads),
                 angle_jitter_beams=args.angle_jitter,
@@ -348,7 +372,8 @@ def _scanner_changes(args: argparse.Namespace) -> str:
         reach = f"{args.range_max:g} m"
         changes += f" Returns beyond {reach} read no echo (range_max {reach})."
     if args.occluded_reads is not None:
-        changes += f" Every OCCLUDED beam reads {args.occluded_reads}."
+        unit = "" if args.occluded_reads in OCCLUDED_READS else " m (the body)"
+        changes += f" Every OCCLUDED beam reads {args.occluded_reads}{unit}."
     if args.dropout > 0.0:
         changes += f" Returns lost as no echo: {args.dropout * 100:g} % (the same draws every run)."
     if args.no_echo_reads is not None:

@@ -321,7 +321,8 @@ def with_angle_jitter(scans: Sequence[Scan], beams: float) -> list[Scan]:
 def with_occluded_reads(scans: Sequence[Scan], labels: np.ndarray, value: float) -> list[Scan]:
     """``scans`` with every OCCLUDED beam (the sector the robot's body blocks) read as
     ``value``: ``+inf`` as a driver that reports the body as no echo, ``-inf`` as REP-117
-    has a body closer than ``range_min``, ``NaN`` as an invalid reading.
+    has a body closer than ``range_min``, ``NaN`` as an invalid reading, a range as a body
+    that returns there (a mast or a frame a few decimetres from the sensor).
 
     Args:
         scans: the file's scans.
@@ -431,6 +432,8 @@ def evaluate_labelled(
                 f"{len(scans[0])} beams"
             )
         scans, labels = with_beam_stride(scans, labels, beam_stride)
+    if occluded_reads is not None:  # (first: a body that returns scatters with the noise)
+        scans = with_occluded_reads(scans, labels, occluded_reads)
     if range_noise_m > 0.0:
         scans = with_range_noise(scans, range_noise_m)
     if range_max_m is not None:
@@ -438,8 +441,6 @@ def evaluate_labelled(
             scans = with_range_max(scans, range_max_m)
         except ValueError as error:
             raise ValueError(f"{source}: {error}") from None
-    if occluded_reads is not None:
-        scans = with_occluded_reads(scans, labels, occluded_reads)
     if dropout_share > 0.0:
         scans = with_dropouts(scans, dropout_share)
     if no_echo_reads is not None:

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pvfilter.cli import main
-from pvfilter.io import arrays_from_scans
+from pvfilter.io import arrays_from_scans, scans_from_arrays
 from pvfilter.labelled import (
     evaluate_labelled,
     geometry_of,
@@ -302,7 +302,7 @@ def test_occluded_beams_read_as_asked_and_nothing_else_changes():
     arrays, _ = labelled_arrays(count=3)
     scans = room_sequence(3, event_every=20).scans
     labels = arrays["labels"]
-    for value in (np.inf, -np.inf):
+    for value in (np.inf, -np.inf, 0.2):
         changed = with_occluded_reads(scans, labels, value)
         for scan, new, codes in zip(scans, changed, labels, strict=True):
             blocked = codes == OCCLUDED
@@ -334,6 +334,26 @@ def test_the_scanner_changes_are_in_the_reports(labelled_file, tmp_path):
     plain = evaluate_labelled(labelled_file, improved)
     blind = evaluate_labelled(labelled_file, improved, occluded_reads=np.inf)
     assert plain.positives == blind.positives  # OCCLUDED beams never count
+
+
+def test_a_body_that_returns_in_the_blocked_sector_scatters_with_the_added_noise(
+    labelled_file, tmp_path
+):
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(labelled_file), "--occluded-reads", "0.2", "--range-noise"]
+    assert main([*argv, "0.01", "--out", str(out)]) == 0
+    assert "Every OCCLUDED beam reads 0.2 m (the body)." in (out / "report.md").read_text()
+    arrays = dict(np.load(labelled_file))
+    scans = scans_from_arrays(arrays)
+    body = with_range_noise(with_occluded_reads(scans, arrays["labels"], 0.2), 0.01)
+    blocked = arrays["labels"][0] == OCCLUDED
+    assert np.std(body[0].ranges[blocked]) == pytest.approx(0.01, rel=0.3)
+
+
+@pytest.mark.parametrize("value", ["0", "-0.2", "body", "1e400"])
+def test_an_occluded_read_that_is_no_range_is_refused(labelled_file, value, capsys):
+    assert main(["eval-labels", str(labelled_file), "--occluded-reads", value]) == 2
+    assert "--occluded-reads: inf, -inf, nan or a range > 0 m" in capsys.readouterr().err
 
 
 @pytest.fixture
