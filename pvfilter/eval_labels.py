@@ -7,7 +7,8 @@ the scans alone unless ``--inputs imu odometry`` gives them the robot inputs the
 hold. Per file and filter it prints the PR curve's AUC and the precision and recall at the
 filter's operating point; then, per filter, the pooled AUC (every file's counts summed),
 the mean and lowest AUC over the files and how many fall below ``--target``.
-``--range-noise M`` adds Gaussian range noise first (a noisier scanner);
+``--range-noise M`` adds Gaussian range noise first (a noisier scanner; only a body that
+``--occluded-reads M`` puts in the blocked sector comes before it);
 ``--occluded-reads VALUE`` reads every OCCLUDED beam as ``inf``, ``-inf`` or ``nan`` (how
 drivers report the sector the body blocks differs), or as a range in metres (the body
 returns there: a mast or a frame a few decimetres from the sensor; before the noise, which
@@ -152,6 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 OCCLUDED_READS = {"inf": math.inf, "-inf": -math.inf, "nan": math.nan}  # --occluded-reads
+MAX_ANGLE_JITTER_BEAMS = 100.0  # --angle-jitter: beyond this it is no jitter but a turn
+NO_ECHO_READS = {"0": 0.0, "nan": math.nan, "range_max": "range_max"}  # --no-echo-reads
 
 
 def occluded_read(text: str | None) -> float | None:
@@ -171,10 +174,6 @@ def occluded_read(text: str | None) -> float | None:
             f"got {text!r}"
         )
     return value
-
-
-MAX_ANGLE_JITTER_BEAMS = 100.0  # --angle-jitter: beyond this it is no jitter but a turn
-NO_ECHO_READS = {"0": 0.0, "nan": math.nan, "range_max": "range_max"}  # --no-echo-reads
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -56,7 +56,7 @@ class BodyBeams:
     def reset(self) -> None:
         """Forget the beams: a new sequence, or another scanner."""
         self._since_s = None
-        self._fixed._clear()
+        self._fixed.clear()
 
     @property
     def tracking(self) -> bool:
@@ -108,9 +108,9 @@ class _SensorFixed:
     it showed a range fixed to the sensor."""
 
     def __init__(self) -> None:
-        self._clear()
+        self.clear()
 
-    def _clear(self) -> None:
+    def clear(self) -> None:
         """Follow nothing."""
         self._moved = STILL  # the first scan's frame -> the current one
         self._kept_m: np.ndarray | None = None  # per beam, m; NaN: no near return
@@ -151,6 +151,6 @@ class _SensorFixed:
         body = near & (since <= memory_s)
         if not np.count_nonzero(body):
             if not np.count_nonzero(near) and not np.count_nonzero(since <= memory_s):
-                self._clear()  # nothing near, no body lately: follow nothing
+                self.clear()  # nothing near, no body lately: follow nothing
             return None
         return body

@@ -49,10 +49,10 @@ def test_a_near_return_that_keeps_its_range_while_the_sensor_turns_is_the_body()
     # 0.1 rad a scan: a point 0.4 m off moves 4 cm across the beams a scan, one 0.2 m off
     # 2 cm: the body after 0.12 m, on the farther beam first
     beams = BodyBeams()
-    seen = [beams.returning_body(NEAR_M, Motion(theta_rad=0.1), 0.1, 1.5) for _ in range(6)]
+    seen = [beams.returning_body(NEAR_M, Motion(theta_rad=0.1), 0.1, 1.5) for _ in range(7)]
     assert [None if b is None else b.tolist() for b in seen[:3]] == [None, None, None]
     assert seen[3].tolist() == [False, False, False, True]
-    assert seen[5].tolist() == [True, True, False, True]
+    assert seen[6].tolist() == [True, True, False, True]  # (0.2 m x 0.5 rad: 0.1 m, an edge)
 
 
 def test_a_near_surface_the_sensor_passes_changes_its_range_and_is_not_the_body():
