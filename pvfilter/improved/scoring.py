@@ -19,7 +19,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    segment counts all the new points of the scan that lie on its line: a full turn's
    seam, chair legs or stray returns cut one floor line into pieces; and a segment's
    own new share counts over the beams it spans without a return, up to twice its new
-   points, as a floor met at a grazing angle echoes on some beams only), or the IMU's;
+   points, as a floor met at a grazing angle echoes on some beams only; and a line whose
+   new points span ``STRONG_LINE_M`` counts as strong, as a floor line far out spans few
+   beams however long it is), or the IMU's;
    unless the strongest line of the other side, taken for the floor, explains both lines
    where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
    there is only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the
@@ -116,6 +118,11 @@ MAX_ECHO_FILL = 2.0  # a segment's new points count at most this many times over
 # face strewn over invalid readings no more than that)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
+STRONG_LINE_M = 1.5  # m: a gated line whose new points span this far is strong, however
+# few beams they are: a floor line far out (a small tilt, or a tall robot) crosses a
+# corridor or a doorway in a few degrees of the sweep (one 14 m out across a 2.8 m hall
+# spans 11 deg), where ``down_side_min_new`` asks for 10 deg of new returns; the count at
+# 0.5 deg per beam reaches this length only 8.6 m out, so nearer lines are judged as before
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
 # keeps the held floor line's place lies at a tilt within this of it (a wall that the turn
 # brought to the line's direction lies at its own distance, most often another tilt)
@@ -280,6 +287,7 @@ def score_segments(
     own_new = new_counts  # (before the pieces of a cut line count theirs together)
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     new_counts = np.maximum(new_counts, _echo_filled_counts(segments, own_new))
+    new_counts = np.maximum(new_counts, _long_line_counts(segments, gates, own_new, params))
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         strong = gates & (new_counts >= params.down_side_min_new)
         score *= _length_shares(segments, strong, params)
@@ -422,6 +430,20 @@ def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarra
     passing for a line."""
     fill = np.minimum(segments.beam_spans / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
     return new_counts * fill
+
+
+def _long_line_counts(
+    segments: Segments, gates: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
+) -> np.ndarray:
+    """Per segment, ``down_side_min_new`` where it is gated and its new points span at
+    least ``STRONG_LINE_M`` of its line (its length times its share of new points), else 0.
+
+    The count a strong line needs is an arc of the sweep: a floor line far out spans few
+    beams however long it is. Its length is that of a line of evenly spaced points with
+    the segment's spread along it (``sqrt(12 var)``)."""
+    length = np.sqrt(12.0 * np.maximum(segments.spread_along, 0.0))
+    new_length = length * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
+    return np.where(gates & (new_length >= STRONG_LINE_M), float(params.down_side_min_new), 0.0)
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:
