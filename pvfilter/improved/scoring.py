@@ -118,11 +118,11 @@ MAX_ECHO_FILL = 2.0  # a segment's new points count at most this many times over
 # face strewn over invalid readings no more than that)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
-STRONG_LINE_M = 1.5  # m: a gated line whose new points span this far is strong, however
-# few beams they are: a floor line far out (a small tilt, or a tall robot) crosses a
-# corridor or a doorway in a few degrees of the sweep (one 14 m out across a 2.8 m hall
-# spans 11 deg), where ``down_side_min_new`` asks for 10 deg of new returns; the count at
-# 0.5 deg per beam reaches this length only 8.6 m out, so nearer lines are judged as before
+STRONG_LINE_M = 1.5  # m: a gated line whose new points span this far counts as strong,
+# however few beams they are (still ``min_points``): ``down_side_min_new`` asks for 10 deg
+# of new returns, and a floor line far out (a small tilt, or a tall robot) crosses a hall
+# in fewer (one 20 m out across a 2.8 m hall spans 8 deg: 16 beams at 0.5 deg). 20 beams
+# at 0.5 deg span this length 8.6 m out: nearer lines are judged by their count as before
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
 # keeps the held floor line's place lies at a tilt within this of it (a wall that the turn
 # brought to the line's direction lies at its own distance, most often another tilt)
@@ -164,8 +164,10 @@ class SegmentScores:
             coincide with the level view weighted by ``COINCIDENT_WEIGHT``).
         new_counts: per segment, its new points: its line's, where a cut line's pieces
             count theirs together, and the beams it spans without a return at its share of
-            new returns (:func:`_echo_filled_counts`); a segment that keeps a held tilt's
-            floor line's place counts as strong: at least ``down_side_min_new``.
+            new returns (:func:`_echo_filled_counts`), or what the length its new points
+            span is worth (:func:`_long_line_counts`), whichever is most; a segment that
+            keeps a held tilt's floor line's place counts as strong: at least
+            ``down_side_min_new``.
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
@@ -435,15 +437,20 @@ def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarra
 def _long_line_counts(
     segments: Segments, gates: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
 ) -> np.ndarray:
-    """Per segment, ``down_side_min_new`` where it is gated and its new points span at
-    least ``STRONG_LINE_M`` of its line (its length times its share of new points), else 0.
+    """Per gated segment, the new points its new length is worth: ``down_side_min_new``
+    for each ``STRONG_LINE_M`` of its line that its new points span (its length times its
+    share of new points); 0 where that is shorter than ``STRONG_LINE_M``, or where it
+    spans more than ``MAX_ECHO_FILL`` times its returns in beams (a few returns strewn
+    over silent beams are no line, however long their spread).
 
     The count a strong line needs is an arc of the sweep: a floor line far out spans few
     beams however long it is. Its length is that of a line of evenly spaced points with
     the segment's spread along it (``sqrt(12 var)``)."""
     length = np.sqrt(12.0 * np.maximum(segments.spread_along, 0.0))
     new_length = length * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
-    return np.where(gates & (new_length >= STRONG_LINE_M), float(params.down_side_min_new), 0.0)
+    long_line = gates & (new_length >= STRONG_LINE_M)
+    long_line &= segments.beam_spans <= MAX_ECHO_FILL * segments.sizes
+    return np.where(long_line, params.down_side_min_new * new_length / STRONG_LINE_M, 0.0)
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:

@@ -353,6 +353,19 @@ def test_a_face_strewn_over_beams_without_returns_counts_at_most_twice_its_point
     assert result.new_counts[0] == pytest.approx(18.0) and result.down_side == 0
 
 
+def test_returns_strewn_over_silent_beams_make_no_long_line():
+    # 8 new returns on every tenth beam, 2.5 m ahead, spread over 1.8 m: over 71 beams
+    # they are no line, however long (MAX_ECHO_FILL bounds them at 16 new points); the
+    # same 1.8 m on every other beam (15 returns over 29 beams) is a floor line far out
+    x = 2.5
+    for beams, down in ((np.arange(0, 80, 10), 0), (np.arange(0, 30, 2), 1)):
+        points = line(x, 0.9, x, -0.9, len(beams))
+        segments = segment_scan(points, beams, INCREMENT, PARAMS)
+        result = score_segments(segments, np.ones(len(beams), bool), 0.0, None, PARAMS)
+        assert len(segments) == 1 and result.gates[0]
+        assert result.down_side == down
+
+
 def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong_line():
     # a floor line 1.8 m ahead (8 deg at 0.25 m) with no new point: it settled within the
     # margin of what lies behind it, while the sensor turned in place
