@@ -136,7 +136,9 @@ class ImprovedParams:
         down_side_min_new: the strongest line fixes the down side only with at least this
             many new points, points (at 0.5° between beams, as ``min_points``; the beams
             a segment spans without a return count at its share of new returns, up to
-            twice its count).
+            twice its count; a line whose new points span ``STRONG_LINE_M`` of it counts
+            this many for each such length, however few beams it spans:
+            :mod:`pvfilter.improved.scoring`).
         p_th: a segment is removed when its score exceeds this, 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.

@@ -19,7 +19,9 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    segment counts all the new points of the scan that lie on its line: a full turn's
    seam, chair legs or stray returns cut one floor line into pieces; and a segment's
    own new share counts over the beams it spans without a return, up to twice its new
-   points, as a floor met at a grazing angle echoes on some beams only), or the IMU's;
+   points, as a floor met at a grazing angle echoes on some beams only; and a line whose
+   new points span ``STRONG_LINE_M`` counts as strong, as a floor line far out spans few
+   beams however long it is), or the IMU's;
    unless the strongest line of the other side, taken for the floor, explains both lines
    where the strongest, taken for the floor, cannot (:func:`_down_side`). On the up side
    there is only the ceiling, at least ``(min_ceiling - h_s) / sin(tilt)`` away for the
@@ -116,6 +118,11 @@ MAX_ECHO_FILL = 2.0  # a segment's new points count at most this many times over
 # face strewn over invalid readings no more than that)
 IMU_SUPPORT = 0.4  # 1: the weight of the IMU's agreement, as independent evidence; alone
 # (no new point) it stays below the default p_th
+STRONG_LINE_M = 1.5  # m: a gated line whose new points span this far counts as strong,
+# however few beams they are (still ``min_points``): ``down_side_min_new`` asks for 10 deg
+# of new returns, and a floor line far out (a small tilt, or a tall robot) crosses a hall
+# in fewer (one 20 m out across a 2.8 m hall spans 8 deg: 16 beams at 0.5 deg). 20 beams
+# at 0.5 deg span this length 8.6 m out: nearer lines are judged by their count as before
 HELD_TILT_TOLERANCE = math.radians(1.0)  # rad: a held tilt holds its pitch: a line that
 # keeps the held floor line's place lies at a tilt within this of it (a wall that the turn
 # brought to the line's direction lies at its own distance, most often another tilt)
@@ -157,8 +164,10 @@ class SegmentScores:
             coincide with the level view weighted by ``COINCIDENT_WEIGHT``).
         new_counts: per segment, its new points: its line's, where a cut line's pieces
             count theirs together, and the beams it spans without a return at its share of
-            new returns (:func:`_echo_filled_counts`); a segment that keeps a held tilt's
-            floor line's place counts as strong: at least ``down_side_min_new``.
+            new returns (:func:`_echo_filled_counts`), or what the length its new points
+            span is worth (:func:`_long_line_counts`), whichever is most; a segment that
+            keeps a held tilt's floor line's place counts as strong: at least
+            ``down_side_min_new``.
         tilt_rad: per segment, the tilt that puts the floor on its line (NaN: not fitted).
         down_side: +1 (ahead) or -1 (behind) where the floor is, 0 unknown.
         down_tilt_rad: the tilt that puts the floor there, rad (NaN: unknown).
@@ -280,6 +289,7 @@ def score_segments(
     own_new = new_counts  # (before the pieces of a cut line count theirs together)
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     new_counts = np.maximum(new_counts, _echo_filled_counts(segments, own_new))
+    new_counts = np.maximum(new_counts, _long_line_counts(segments, gates, own_new, params))
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         strong = gates & (new_counts >= params.down_side_min_new)
         score *= _length_shares(segments, strong, params)
@@ -422,6 +432,25 @@ def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarra
     passing for a line."""
     fill = np.minimum(segments.beam_spans / np.maximum(segments.sizes, 1), MAX_ECHO_FILL)
     return new_counts * fill
+
+
+def _long_line_counts(
+    segments: Segments, gates: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
+) -> np.ndarray:
+    """Per gated segment, the new points its new length is worth: ``down_side_min_new``
+    for each ``STRONG_LINE_M`` of its line that its new points span (its length times its
+    share of new points); 0 where that is shorter than ``STRONG_LINE_M``, or where it
+    spans more than ``MAX_ECHO_FILL`` times its returns in beams (a few returns strewn
+    over silent beams are no line, however long their spread).
+
+    The count a strong line needs is an arc of the sweep: a floor line far out spans few
+    beams however long it is. Its length is that of a line of evenly spaced points with
+    the segment's spread along it (``sqrt(12 var)``)."""
+    length = np.sqrt(12.0 * np.maximum(segments.spread_along, 0.0))
+    new_length = length * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
+    long_line = gates & (new_length >= STRONG_LINE_M)
+    long_line &= segments.beam_spans <= MAX_ECHO_FILL * segments.sizes
+    return np.where(long_line, params.down_side_min_new * new_length / STRONG_LINE_M, 0.0)
 
 
 def _on_view_share(segments: Segments, view_valid: np.ndarray) -> np.ndarray:

@@ -116,10 +116,12 @@ def tilted_scan(
     walls: np.ndarray = ROOM,
     stamp: float = 0.0,
     beams: int = 720,
+    range_max_m: float = 12.0,
 ):
     """A scan cast in 3D: the plane ``height_m`` above the floor, pitched (nose down > 0)
     and rolled (left side up > 0), in a room of vertical walls with a floor at z = 0 and,
-    if given, a ceiling at ``ceiling_m``. No noise; the blocked sector is -inf.
+    if given, a ceiling at ``ceiling_m``, by a scanner reaching ``range_max_m``. No noise;
+    the blocked sector is -inf.
 
     Returns:
         The scan, and per beam what it hit: 0 nothing, 1 a wall, 2 the floor, 3 the ceiling.
@@ -145,13 +147,13 @@ def tilted_scan(
     hits = np.stack((np.full(beams, np.inf), t_wall, t_floor, t_ceiling))
     labels = np.argmin(hits, axis=0)
     ranges = hits.min(axis=0)
-    ranges[ranges > 12.0] = np.inf
+    ranges[ranges > range_max_m] = np.inf
     labels[~np.isfinite(ranges)] = 0
     blocked = (angles >= BLOCKED_SECTOR[0]) & (angles <= BLOCKED_SECTOR[1])
     ranges[blocked] = -np.inf
     labels[blocked] = 0
     scan = Scan(ranges=ranges, angle_min=-math.pi, angle_increment=increment, range_min=0.05,
-                range_max=12.0, stamp=stamp, scan_time=0.1)  # fmt: skip
+                range_max=range_max_m, stamp=stamp, scan_time=0.1)  # fmt: skip
     return scan, labels
 
 

@@ -938,6 +938,28 @@ def test_reset_forgets_the_measured_noise():
     assert np.any(np.array(fresh) > 0.5)  # the floor lines were found
 
 
+def test_a_tall_robots_floor_line_far_down_a_hall_is_found():
+    # a LiDAR 0.85 m up, nose down by up to 2-3 deg in a hall 2.4 m wide: at the peak the
+    # floor line lies 16-24 m ahead and spans 6-9 deg of the sweep (11-17 beams, fewer
+    # than down_side_min_new), 2.4 m long. Counted by its beams it showed no pitch event
+    # (nothing found); counted by its length it is strong (the side walls' corners at
+    # its ends may go with it)
+    hall = room_segments(40.0, 2.0, 1.2, 1.2)
+    for peak_deg in (2.0, 3.0):
+        pvf = ImprovedPitchVariationFilter(ImprovedParams(lidar_height_m=0.85, axle_height_m=0.1))
+        found = floor = false_alarms = 0
+        for k in range(40):
+            pitch = pitch_event(19, 12, peak_deg)(k)
+            scan, hit = tilted_scan(
+                pitch_rad=pitch, height_m=0.85, walls=hall, stamp=0.1 * k, range_max_m=30.0
+            )
+            removed = pvf.process(scan).removed
+            found += np.count_nonzero(removed & (hit == 2))
+            floor += np.count_nonzero(hit == 2)
+            false_alarms += np.count_nonzero(removed & (hit != 2))
+        assert floor > 20 and found >= 0.8 * floor and false_alarms <= 0.1 * found
+
+
 def test_the_robots_own_mast_behind_the_sensor_does_not_hide_the_floor_line_behind_it():
     # a 360 deg scanner with the robot's mast 0.25 m behind it, at 150-165 deg each side,
     # driving forward at 1 m/s with a nose-up event (floor line behind). Carried with the

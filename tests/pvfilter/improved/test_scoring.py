@@ -16,6 +16,7 @@ from pvfilter.improved.scoring import (
     HELD_ON_VIEW,
     HELD_TILT_TOLERANCE,
     IMU_SUPPORT,
+    STRONG_LINE_M,
     HeldLine,
     line_pitch,
     score_segments,
@@ -297,22 +298,39 @@ def test_a_wall_seen_beside_open_space_is_not_the_floor():
 
 
 def test_a_weak_line_alone_shows_no_pitch_event():
-    # 12 new points across the direction of travel, nothing else: clutter, weighted down;
-    # with the IMU saying the plane is tilted there, it is the floor line
+    # 12 new points across the direction of travel on 1.2 m of line (shorter than
+    # STRONG_LINE_M), nothing else: clutter, weighted down; with the IMU saying the plane
+    # is tilted there, it is the floor line
     tilt = math.radians(10.0)
-    weak = line(HEIGHT_M / math.sin(tilt), -0.8, HEIGHT_M / math.sin(tilt), 0.8, 12)
+    weak = line(HEIGHT_M / math.sin(tilt), -0.6, HEIGHT_M / math.sin(tilt), 0.6, 12)
     _, alone = scored(weak)
     assert alone.down_side == 0 and alone.scores[0] == pytest.approx(PARAMS.up_side_weight)
     _, with_imu = scored(weak, attitude=Attitude(tilt, 0.0, math.radians(2.0)))
     assert with_imu.down_side == 1 and with_imu.scores[0] == pytest.approx(1.0)
 
 
+def test_a_long_floor_line_far_out_is_strong_however_few_beams_it_spans():
+    # a plane pitched by under a degree meets the floor 20 m ahead, across a 2.8 m hall:
+    # 16 beams (fewer than down_side_min_new) but 2.8 m of new line, a pitch event
+    assert 16 < PARAMS.down_side_min_new and 2.8 > STRONG_LINE_M
+    _, far = scored(line(20.0, -1.4, 20.0, 1.4, 16))
+    assert far.down_side == 1 and far.scores[0] == pytest.approx(1.0)
+    # the same beams on 1 m of line (a face far out), or half of them new on the long
+    # line (1.4 m of it): no pitch event
+    _, short = scored(line(20.0, -0.5, 20.0, 0.5, 16))
+    _, half_new = scored(line(20.0, -1.4, 20.0, 1.4, 16), new=np.arange(16) < 8)
+    for result in (short, half_new):
+        assert result.gates[0] and result.down_side == 0
+    assert short.scores[0] == pytest.approx(PARAMS.up_side_weight)
+
+
 def test_a_floor_line_that_echoes_on_every_other_beam_is_as_long_as_the_beams_it_spans():
     # a floor line 1.5 m behind a plane pitched 9.5 deg, met at a grazing angle: 12
-    # echoes, every other beam silent. Over 12 beams it is clutter (12 new points, fewer
-    # than down_side_min_new); over 23 beams it is a floor line as long as 23 returns
+    # echoes, every other beam silent, on 1.2 m of line (shorter than STRONG_LINE_M).
+    # Over 12 beams it is clutter (12 new points, fewer than down_side_min_new); over 23
+    # beams it is a floor line as long as 23 returns
     x = -HEIGHT_M / math.sin(math.radians(9.5))
-    points = line(x, 0.8, x, -0.8, 12)
+    points = line(x, 0.6, x, -0.6, 12)
     for beams, down in ((np.arange(12), 0), (np.arange(0, 24, 2), -1)):
         segments = segment_scan(points, beams, INCREMENT, PARAMS)
         result = score_segments(segments, np.ones(12, bool), 0.0, None, PARAMS)
@@ -333,6 +351,19 @@ def test_a_face_strewn_over_beams_without_returns_counts_at_most_twice_its_point
     segments = segment_scan(points[:9], np.arange(0, 45, 5), INCREMENT, PARAMS)
     result = score_segments(segments, np.ones(9, bool), 0.0, None, PARAMS)
     assert result.new_counts[0] == pytest.approx(18.0) and result.down_side == 0
+
+
+def test_returns_strewn_over_silent_beams_make_no_long_line():
+    # 8 new returns on every tenth beam, 2.5 m ahead, spread over 1.8 m: over 71 beams
+    # they are no line, however long (MAX_ECHO_FILL bounds them at 16 new points); the
+    # same 1.8 m on every other beam (15 returns over 29 beams) is a floor line far out
+    x = 2.5
+    for beams, down in ((np.arange(0, 80, 10), 0), (np.arange(0, 30, 2), 1)):
+        points = line(x, 0.9, x, -0.9, len(beams))
+        segments = segment_scan(points, beams, INCREMENT, PARAMS)
+        result = score_segments(segments, np.ones(len(beams), bool), 0.0, None, PARAMS)
+        assert len(segments) == 1 and result.gates[0]
+        assert result.down_side == down
 
 
 def test_a_line_that_keeps_a_held_floor_lines_place_scores_as_a_confident_strong_line():
