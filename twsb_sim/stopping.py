@@ -9,6 +9,11 @@ here, where it cannot be lost: :func:`stopping` records every stop, silences the
 one, and :func:`raise_if_stopped` raises it again at the points that commit outputs
 (:mod:`twsb_sim.staging`) and when the command returns.
 
+A stop that lands in an object's ``__init__`` leaves it half built, and its finalizer
+fails later for an attribute it never set (numba's compiler objects, when the stop lands
+while a kernel compiles), often as the command exits. After a stop such a failure is
+not reported: the command has said it stopped (:func:`stopping`).
+
 A stop can also land in code that wraps what it raises: a compiled (numba) function's
 dispatcher runs Python while it loads, and turns an exception raised there into a
 ``SystemError``. An error whose chain of causes holds a stop is that stop.
@@ -44,6 +49,14 @@ def _on_unraisable(unraisable: sys.UnraisableHookArgs, previous: Callable[..., o
     if isinstance(unraisable.exc_value, KeyboardInterrupt):
         _stop = _stop or unraisable.exc_value
     else:
+        previous(unraisable)
+
+
+def _after_stop(unraisable: sys.UnraisableHookArgs, previous: Callable[..., object]) -> None:
+    """After a stop: a finalizer that fails for a missing attribute belongs to an object
+    whose ``__init__`` the stop cut short, and is not reported; anything else goes to the
+    hook that was there before."""
+    if not isinstance(unraisable.exc_value, AttributeError):
         previous(unraisable)
 
 
@@ -110,16 +123,27 @@ def stopping() -> Iterator[None]:
     previous_handler = signal.signal(signal.SIGTERM, _on_sigterm) if in_main_thread else None
     previous_hook = sys.unraisablehook
     sys.unraisablehook = lambda unraisable: _on_unraisable(unraisable, previous_hook)
+    stopped = False
     try:
         yield
         raise_if_stopped()
+    except KeyboardInterrupt:
+        stopped = True
+        raise
     except Exception as error:
         stop = stop_within(error) or _stop
         if stop is None:
             raise
+        stopped = True
         raise stop from error
     finally:
-        sys.unraisablehook = previous_hook
+        # (after a stop the command winds down: half-built objects fail as they go, some
+        # at the interpreter's exit, when module globals may be gone: bound here)
+        sys.unraisablehook = (
+            (lambda unraisable, after=_after_stop, before=previous_hook: after(unraisable, before))
+            if stopped
+            else previous_hook
+        )
         if previous_handler is not None:
             signal.signal(signal.SIGTERM, previous_handler)
         _stop = None
