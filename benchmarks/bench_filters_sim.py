@@ -7,9 +7,10 @@ frames of 720 beams at 10 Hz: drives, turns, hard stops and shoves). The benchma
 
 Prints scans/s of the paper's filter (Table I) and of the improved filter (defaults, the
 robot's LiDAR and axle heights, scans alone; and once more without re-anchoring the level
-view, to show what that stage costs), run in turn, ``--repeats`` rounds; the median and
-best of each, and the improved filter's time per scan over the paper's, per round (the
-goal: at most 2x). The filters run as ``twsb eval`` runs them.
+view, to show what that stage costs), fed each run's frames in turn a few at a time
+(``in_turn.py``), ``--repeats`` rounds; the median and best of each, and the improved
+filter's time per scan over the paper's, per round (the goal: at most 2x). The filters
+run as ``twsb eval`` runs them.
 
     python benchmarks/bench_filters_sim.py [--repeats 5] [--houses 3]
 """
@@ -20,10 +21,10 @@ import argparse
 import os
 import platform
 import statistics
-import time
 
 import numpy as np
 import scipy
+from in_turn import CHUNK_SCANS, seconds_in_turn
 
 from pvfilter import ImprovedParams
 from twsb_sim.evaluation.improved import improved_filter
@@ -45,18 +46,20 @@ def recordings(houses: int) -> list:
     return runs
 
 
-def seconds_per_scan(make, runs: list) -> float:
-    """Mean seconds per frame of a fresh filter from ``make(recording)`` over ``runs``."""
-    frames, elapsed = 0, 0.0
+def seconds_per_scan_in_turn(makers: dict, runs: list) -> dict[str, float]:
+    """Per filter, mean seconds per frame over ``runs``: for each run a fresh filter each
+    from ``make(recording)``, fed the run's frames in turn, a few at a time
+    (:func:`in_turn.seconds_in_turn`: their ratio holds on a machine whose speed drifts)."""
+    elapsed = dict.fromkeys(makers, 0.0)
+    frames = 0
     for run in runs:
-        scan_filter = make(run)
-        scan_filter.reset()
-        start = time.perf_counter()
-        for frame in run.frames:
-            scan_filter.process(frame)
-        elapsed += time.perf_counter() - start
+        filters = {name: make(run) for name, make in makers.items()}
+        for scan_filter in filters.values():
+            scan_filter.reset()
+        for name, seconds in seconds_in_turn(filters, run.frames).items():
+            elapsed[name] += seconds
         frames += len(run.frames)
-    return elapsed / frames
+    return {name: seconds / frames for name, seconds in elapsed.items()}
 
 
 def main() -> None:
@@ -68,7 +71,7 @@ def main() -> None:
     frames = sum(len(run.frames) for run in runs)
     print(
         f"filters on the simulator's scans: {frames} frames of {len(runs)} runs, "
-        f"{args.repeats} rounds, each filter in turn"
+        f"{args.repeats} rounds, the filters in turn {CHUNK_SCANS} frames at a time"
     )
     print(
         f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
@@ -81,8 +84,8 @@ def main() -> None:
     }
     times: dict[str, list[float]] = {name: [] for name in filters}
     for _ in range(args.repeats):
-        for name, make in filters.items():
-            times[name].append(seconds_per_scan(make, runs))
+        for name, seconds in seconds_per_scan_in_turn(filters, runs).items():
+            times[name].append(seconds)
     print(f"{'filter':24s} {'scans/s':>16s} {'us/scan':>8s}")
     for name, seconds in times.items():
         median = statistics.median(seconds)

@@ -6,7 +6,8 @@ floor line ahead or behind for three scans of every twenty (pvfilter.synthetic).
 
 Prints scans/s of ``PitchVariationFilter.process`` (Table I parameters, and the modes;
 nothing but the two-thread row starts a thread) and of the improved filter
-(``ImprovedPitchVariationFilter``, defaults) in the same run,
+(``ImprovedPitchVariationFilter``, defaults), run in turn for ``--repeats`` rounds, with
+the improved filter's time per scan over Table I's per round (the goal: at most 2x);
 the split of one scan's time over the stages, and the per-beam precision and recall on the
 sequence's ground truth, as a check that the measured filter does its job.
 
@@ -24,6 +25,7 @@ import time
 
 import numpy as np
 import scipy
+from in_turn import seconds_in_turn
 
 from pvfilter import (
     FilterParams,
@@ -39,6 +41,16 @@ from pvfilter.synthetic import room_sequence
 
 SEQUENCE_LENGTH = 200  # scans, cycled; ten pitch events
 WARM_UP_SCANS = 50  # scans run untimed before each configuration's timed runs
+TABLE_ONE_ROW = "sequential, Table I"  # the two rows the goal compares
+IMPROVED_ROW = "sequential, improved filter"
+THREADED_ROW = "two threads, Table I"
+ROW_ORDER = (
+    TABLE_ONE_ROW,
+    "sequential, detection only",
+    "sequential, radius clustering",
+    THREADED_ROW,
+    IMPROVED_ROW,
+)
 
 
 def stream(scans: list, count: int) -> list:
@@ -46,35 +58,45 @@ def stream(scans: list, count: int) -> list:
     return [dataclasses.replace(scans[i % len(scans)], stamp=0.1 * i) for i in range(count)]
 
 
-def rate(run, batch: list, repeats: int) -> tuple[float, float]:
-    """Median and best scans/s of ``run(batch)`` over ``repeats`` runs, after one untimed
-    run over the first ``WARM_UP_SCANS`` (first calls pay for imports, caches and the
-    KD-tree's set-up: with ``--repeats 1`` they would be the whole figure)."""
+def rates_in_turn(
+    configurations: dict[str, FilterParams | ImprovedParams], batch: list, repeats: int
+) -> dict[str, list[float]]:
+    """Per sequential configuration, its scans/s in each of ``repeats`` rounds.
+
+    Each round makes a fresh filter per configuration and feeds them the batch in turn, a
+    few scans at a time (:func:`in_turn.seconds_in_turn`), so that the ratio of two
+    configurations holds on a machine whose speed drifts. First one untimed pass over
+    ``WARM_UP_SCANS`` scans (first calls pay for imports, caches and the KD-tree's set-up:
+    with ``--repeats 1`` they would be the whole figure).
+    """
+    seconds_in_turn(
+        {name: filter_for(params) for name, params in configurations.items()},
+        batch[:WARM_UP_SCANS],
+    )
+    rates: dict[str, list[float]] = {name: [] for name in configurations}
+    for _ in range(repeats):
+        filters = {name: filter_for(params) for name, params in configurations.items()}
+        for name, seconds in seconds_in_turn(filters, batch).items():
+            rates[name].append(len(batch) / seconds)
+    return rates
+
+
+def threaded_rates(params: FilterParams, batch: list, repeats: int) -> list[float]:
+    """The two-thread filter's scans/s in each of ``repeats`` whole runs of the batch
+    (after a warm-up run): it takes the stream whole (``process_stream``)."""
+
+    def run(scans: list) -> None:
+        with ThreadedPitchVariationFilter(params) as pvf:
+            for _ in pvf.process_stream(scans):
+                pass
+
     run(batch[:WARM_UP_SCANS])
     rates = []
     for _ in range(repeats):
         start = time.perf_counter()
         run(batch)
         rates.append(len(batch) / (time.perf_counter() - start))
-    return statistics.median(rates), max(rates)
-
-
-def sequential(params: FilterParams | ImprovedParams):
-    def run(batch):
-        pvf = filter_for(params)
-        for scan in batch:
-            pvf.process(scan)
-
-    return run
-
-
-def threaded(params: FilterParams):
-    def run(batch):
-        with ThreadedPitchVariationFilter(params) as pvf:
-            for _ in pvf.process_stream(batch):
-                pass
-
-    return run
+    return rates
 
 
 def stage_split(batch: list, params: FilterParams) -> dict[str, float]:
@@ -124,17 +146,28 @@ def main() -> None:
         f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
         f"{platform.machine()}, {os.cpu_count()} cpus\n"
     )
-    rows = [
-        ("sequential, Table I", sequential(table_one)),
-        ("sequential, detection only", sequential(FilterParams(tracking=False))),
-        ("sequential, radius clustering", sequential(FilterParams(clustering="radius"))),
-        ("two threads, Table I", threaded(table_one)),
-        ("sequential, improved filter", sequential(ImprovedParams())),
-    ]
+    sequential = {
+        TABLE_ONE_ROW: table_one,
+        "sequential, detection only": FilterParams(tracking=False),
+        "sequential, radius clustering": FilterParams(clustering="radius"),
+        IMPROVED_ROW: ImprovedParams(),
+    }
+    rates = rates_in_turn(sequential, batch, args.repeats)
+    rates[THREADED_ROW] = threaded_rates(table_one, batch, args.repeats)
     print(f"{'configuration':32s} {'scans/s':>16s} {'us/scan':>8s}")
-    for name, run in rows:
-        median, best = rate(run, batch, args.repeats)
-        print(f"{name:32s} {median:8.0f} ({best:5.0f}) {1e6 / median:8.1f}")
+    for name in ROW_ORDER:
+        runs = rates[name]
+        median = statistics.median(runs)
+        print(f"{name:32s} {median:8.0f} ({max(runs):5.0f}) {1e6 / median:8.1f}")
+    # time per scan, improved over Table I, round by round (scans/s: the inverse ratio)
+    ratios = [
+        paper / improved
+        for paper, improved in zip(rates[TABLE_ONE_ROW], rates[IMPROVED_ROW], strict=True)
+    ]
+    print(
+        f"\nimproved / Table I time per scan, per round: median {statistics.median(ratios):.2f}x "
+        f"({min(ratios):.2f}-{max(ratios):.2f}x)"
+    )
     split = stage_split(batch, table_one)
     total = sum(split.values())
     print(f"\nper-stage split, Table I, sequential (sum {total:.1f} us/scan):")
