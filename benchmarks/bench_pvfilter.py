@@ -6,8 +6,10 @@ floor line ahead or behind for three scans of every twenty (pvfilter.synthetic).
 
 Prints scans/s of ``PitchVariationFilter.process`` (Table I parameters, and the modes;
 nothing but the two-thread row starts a thread) and of the improved filter
-(``ImprovedPitchVariationFilter``, defaults), run in turn for ``--repeats`` rounds, with
-the improved filter's time per scan over Table I's per round (the goal: at most 2x);
+(``ImprovedPitchVariationFilter``, defaults), the sequential ones run in turn for
+``--repeats`` rounds, with the improved filter's time per scan over Table I's per round
+(the goal: at most 2x), the two-thread one in whole runs, each paired with a sequential
+run of Table I;
 the split of one scan's time over the stages, and the per-beam precision and recall on the
 sequence's ground truth, as a check that the measured filter does its job.
 
@@ -25,7 +27,7 @@ import time
 
 import numpy as np
 import scipy
-from in_turn import seconds_in_turn
+from in_turn import seconds_in_turn  # this folder's: the filters fed in turn
 
 from pvfilter import (
     FilterParams,
@@ -81,22 +83,34 @@ def rates_in_turn(
     return rates
 
 
-def threaded_rates(params: FilterParams, batch: list, repeats: int) -> list[float]:
-    """The two-thread filter's scans/s in each of ``repeats`` whole runs of the batch
-    (after a warm-up run): it takes the stream whole (``process_stream``)."""
+def threaded_rates(
+    params: FilterParams, batch: list, repeats: int
+) -> tuple[list[float], list[float]]:
+    """The two-thread filter's scans/s in each of ``repeats`` whole runs of the batch (it
+    takes the stream whole, ``process_stream``: it cannot be fed in turn), each run right
+    after a whole sequential run with the same parameters, and that run's scans/s: the
+    pair's ratio holds where a drifting machine moves both alike (after one warm-up run
+    each)."""
 
-    def run(scans: list) -> None:
+    def threaded(scans: list) -> None:
         with ThreadedPitchVariationFilter(params) as pvf:
             for _ in pvf.process_stream(scans):
                 pass
 
-    run(batch[:WARM_UP_SCANS])
-    rates = []
+    def sequential(scans: list) -> None:
+        pvf = filter_for(params)
+        for scan in scans:
+            pvf.process(scan)
+
+    threaded(batch[:WARM_UP_SCANS])
+    sequential(batch[:WARM_UP_SCANS])
+    threads, alone = [], []
     for _ in range(repeats):
-        start = time.perf_counter()
-        run(batch)
-        rates.append(len(batch) / (time.perf_counter() - start))
-    return rates
+        for run, rates in ((sequential, alone), (threaded, threads)):
+            start = time.perf_counter()
+            run(batch)
+            rates.append(len(batch) / (time.perf_counter() - start))
+    return threads, alone
 
 
 def stage_split(batch: list, params: FilterParams) -> dict[str, float]:
@@ -153,7 +167,7 @@ def main() -> None:
         IMPROVED_ROW: ImprovedParams(),
     }
     rates = rates_in_turn(sequential, batch, args.repeats)
-    rates[THREADED_ROW] = threaded_rates(table_one, batch, args.repeats)
+    rates[THREADED_ROW], sequential_beside = threaded_rates(table_one, batch, args.repeats)
     print(f"{'configuration':32s} {'scans/s':>16s} {'us/scan':>8s}")
     for name in ROW_ORDER:
         runs = rates[name]
@@ -167,6 +181,14 @@ def main() -> None:
     print(
         f"\nimproved / Table I time per scan, per round: median {statistics.median(ratios):.2f}x "
         f"({min(ratios):.2f}-{max(ratios):.2f}x)"
+    )
+    paired = [
+        alone / threads
+        for threads, alone in zip(rates[THREADED_ROW], sequential_beside, strict=True)
+    ]
+    print(
+        f"two threads / sequential Table I time per scan, whole runs in pairs: median "
+        f"{statistics.median(paired):.2f}x ({min(paired):.2f}-{max(paired):.2f}x)"
     )
     split = stage_split(batch, table_one)
     total = sum(split.values())
