@@ -33,10 +33,6 @@ STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of th
 # error; plus 1 % of the range): the world-static test, and a return on the level view
 MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
 # test does not tell (a grazing beam slides along its surface)
-ROCKING_WINDOW_S = 1.0  # s: how far back a standing sensor looks for a return that its
-# body's rocking showed and hid (WorldStatic.shown_and_hidden): a balancing body rocks by
-# a few degrees at about 1-3 Hz as it stands
-ROCKING_SPACING_S = 0.05  # s: ... in scans at least this far apart (at most 20 of them)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far
 # on each side (absorbs sub-beam misalignment after ego-motion)
 
@@ -161,11 +157,7 @@ class WorldStatic:
     came back into view, not the floor. The sensor stood only where the scan matches saw
     it stand (``travel_seen``): along a corridor, or while floor lines hide the walls
     ahead, a match that cannot see the drive reads a robot that drives on as standing,
-    and its floor line as a line that stayed put. A standing body also rocks, and its
-    plane shows and hides a face near the scanner's height: the earlier scan may have
-    seen the wall behind it. A return that a scan of the last ``ROCKING_WINDOW_S`` saw
-    where it lies now, and a later one saw past, stayed put too
-    (:meth:`shown_and_hidden`, asked by the scoring).
+    and its floor line as a line that stayed put.
 
     Where the sensor turned, the floor line of a tilt held through the turn keeps its
     place in the sensor frame, and near the foot of its perpendicular the range the turn
@@ -188,9 +180,6 @@ class WorldStatic:
         first_step_s: the time from the earlier scan to the scan after it, s.
         first_speed_mps: the sensor's mean speed over that step, m/s (inf: unknown).
             By default the history is unknown, and no tilt is too steep to hold.
-        rocking: where the sensor stood since the earlier scan (:attr:`stood`), the tests
-            against each scan of the last ``ROCKING_WINDOW_S``, oldest first, for
-            :meth:`shown_and_hidden` (empty: none asked for).
     """
 
     ranges: np.ndarray
@@ -203,13 +192,6 @@ class WorldStatic:
     span_s: float = 0.0
     first_step_s: float = 0.0
     first_speed_mps: float = math.inf
-    rocking: tuple[WorldStatic, ...] = ()
-
-    @property
-    def stood(self) -> bool:
-        """The sensor stood since the earlier scan: every step was measured, and it moved
-        no farther than twice the tolerance."""
-        return self.travel_seen and self.since.translation_m <= 2.0 * self.tolerance_m
 
     @property
     def hold_tilt_rad(self) -> float:
@@ -245,8 +227,19 @@ class WorldStatic:
                 (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
                 tells).
         """
-        since = self.since
-        shift, earlier, moved, facing_ok = self._prediction(beams)
+        layout, since = self.layout, self.since
+        shift = round(since.theta_rad / layout.increment)
+        angle = self.directions.take(beams)
+        normal_x, normal_y = -np.sin(angle), np.cos(angle)
+        facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
+        toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
+        facing_ok = np.abs(facing) > MIN_FACING
+        # how far a static return moved along its beam, m, where the beam faces its surface;
+        # 0 at grazing incidence, where the quotient divides by nearly 0 and means nothing
+        # (there only the standing sensor's pitch test below tells), and without the cost
+        # of an errstate to silence a division by zero
+        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
+        earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_m + 0.01 * ranges
         twice = 2.0 * tolerance  # farther than this tells
@@ -258,48 +251,6 @@ class WorldStatic:
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
         return static, telling
-
-    def _prediction(self, beams: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        """For ``beams``: the turn in beams since the earlier scan; the earlier range on
-        the beam the turn brings here; how far a static return moved along its beam, m;
-        and where the beam faces its surface (the move is 0 elsewhere)."""
-        layout, since = self.layout, self.since
-        shift = round(since.theta_rad / layout.increment)
-        angle = self.directions.take(beams)
-        normal_x, normal_y = -np.sin(angle), np.cos(angle)
-        facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
-        toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
-        facing_ok = np.abs(facing) > MIN_FACING
-        # how far a static return moved along its beam, m, where the beam faces its surface;
-        # 0 at grazing incidence, where the quotient divides by nearly 0 and means nothing
-        # (there only the standing sensor's pitch test tells), and without the cost of an
-        # errstate to silence a division by zero
-        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
-        earlier = layout.shifted(self.previous_ranges, shift).take(beams)
-        return shift, earlier, moved, facing_ok
-
-    def shown_and_hidden(self, beams: np.ndarray) -> np.ndarray:
-        """For ``beams``: a scan of the last ``ROCKING_WINDOW_S`` (:attr:`rocking`) saw the
-        return where it lies now, and a later one saw past it.
-
-        A balancing body that stands rocks by a few degrees, and its plane meets a face
-        near the scanner's height (a sofa's back, a counter's edge) in the scans pitched
-        towards it and passes over it in the others, where it sees the wall behind. Each
-        time the face shows it lies in front of the level view, straight and across the
-        travel, as a floor line would, and the scan :meth:`at` compares with may be one
-        that saw the wall. A return that came, went and came back to one place stayed put
-        in the world; a floor line moves with the pitch, and comes back to the same place
-        only at the same pitch, within the tolerance (at 10° of tilt, about 0.2°)."""
-        seen = np.zeros(len(beams), dtype=bool)
-        gone = np.zeros(len(beams), dtype=bool)
-        ranges = self.ranges.take(beams)
-        tolerance = self.tolerance_m + 0.01 * ranges
-        for test in self.rocking:  # oldest first
-            _, earlier, moved, _ = test._prediction(beams)
-            predicted = earlier + moved  # NaN compares False below
-            gone |= seen & (predicted > ranges + 2.0 * tolerance)
-            seen |= np.abs(ranges - predicted) <= tolerance
-        return gone
 
 
 class Earlier(NamedTuple):
@@ -332,9 +283,8 @@ class RecentScans:
     worked out only when asked for.
     """
 
-    def __init__(self, baseline_s: float, spacing_s: float = 0.0) -> None:
+    def __init__(self, baseline_s: float) -> None:
         self.baseline_s = baseline_s
-        self.spacing_s = spacing_s  # s: a scan nearer than this to the last kept is not kept
         self.scans: list[_Kept] = []
         self.pose = Motion()  # the fixed frame -> the latest scan's
         self.unseen_steps = 0  # steps so far whose drive the matches could not see
@@ -353,31 +303,22 @@ class RecentScans:
 
     def oldest(self, stamp: float) -> Earlier | None:
         """The oldest kept scan, seen from the scan now at ``stamp`` (None: none kept)."""
-        return self._seen_from(0, stamp) if self.scans else None
-
-    def every(self, stamp: float) -> list[Earlier]:
-        """Every kept scan, oldest first, seen from the scan now at ``stamp``."""
-        return [self._seen_from(k, stamp) for k in range(len(self.scans))]
-
-    def _seen_from(self, k: int, stamp: float) -> Earlier:
-        """The ``k``-th kept scan, seen from the scan now at ``stamp``."""
-        kept = self.scans[k]
-        since = kept.pose.inverse().then(self.pose)
+        if not self.scans:
+            return None
+        earliest = self.scans[0]
+        since = earliest.pose.inverse().then(self.pose)
         # the first step after it: to the next kept scan, or to now
         after_stamp, after_pose = stamp, self.pose
-        if k + 1 < len(self.scans):
-            after_stamp, after_pose = self.scans[k + 1].stamp, self.scans[k + 1].pose
-        first_step_s = after_stamp - kept.stamp
-        first_m = kept.pose.inverse().then(after_pose).translation_m
+        if len(self.scans) > 1:
+            after_stamp, after_pose = self.scans[1].stamp, self.scans[1].pose
+        first_step_s = after_stamp - earliest.stamp
+        first_m = earliest.pose.inverse().then(after_pose).translation_m
         speed = first_m / first_step_s if first_step_s > 0.0 else math.inf
-        seen = kept.unseen_before == self.unseen_steps
-        return Earlier(kept.ranges, since, seen, stamp - kept.stamp, first_step_s, speed)
+        seen = earliest.unseen_before == self.unseen_steps
+        return Earlier(earliest.ranges, since, seen, stamp - earliest.stamp, first_step_s, speed)
 
     def add(self, stamp: float, ranges: np.ndarray) -> None:
-        """Take the scan now in (unless it lies within ``spacing_s`` of the last kept), and
-        drop those older than ``baseline_s`` (keeping one)."""
-        if self.scans and stamp - self.scans[-1].stamp < self.spacing_s:
-            return
+        """Take the scan now in, and drop those older than ``baseline_s`` (keeping one)."""
         self.scans.append(_Kept(stamp, ranges, self.pose, self.unseen_steps))
         while stamp - self.scans[0].stamp > self.baseline_s:
             self.scans.pop(0)

@@ -37,10 +37,7 @@ from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
-    ROCKING_SPACING_S,
-    ROCKING_WINDOW_S,
     STATIC_TOLERANCE_M,
-    Earlier,
     RecentScans,
     WorldStatic,
     free_space_evidence,
@@ -163,7 +160,6 @@ class ImprovedPitchVariationFilter:
         self._segment_params = self.params  # and the lean that roll gives a floor line
         self._previous_stamp: float | None = None
         self._recent = RecentScans(STATIC_BASELINE_S)
-        self._rocking = RecentScans(ROCKING_WINDOW_S, ROCKING_SPACING_S)  # a standing body's
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
         self._body = BodyBeams()
@@ -471,7 +467,6 @@ class ImprovedPitchVariationFilter:
             if body is not None:
                 self._memory.forget(body)
         self._recent.add(scan.stamp, found.level_ranges)
-        self._rocking.add(scan.stamp, found.level_ranges)
 
     def _across(self, segments: Segments, count: int) -> np.ndarray | None:
         """Per beam: it lies on a segment across the direction of travel with at least
@@ -532,7 +527,6 @@ class ImprovedPitchVariationFilter:
             range_min=scan.range_min,
         )  # fmt: skip
         self._recent.advance(step, travel_seen)
-        self._rocking.advance(step, travel_seen)
         gaps = free_space_gaps(ranges, view.known_free_m(), layout, scan.range_max)
         if blind:  # the motion is a constant-velocity guess: compared within its doubt
             margin_m = params.free_margin_m + blind_margin_m(self._ego.coasted_s)
@@ -588,32 +582,19 @@ class ImprovedPitchVariationFilter:
         earlier = self._recent.oldest(scan.stamp) if tested else None
         static = None
         if earlier is not None:
-            static = self._world_static(level_ranges, directions, earlier)
-            if static.stood:  # and against every scan of the last second, for what the
-                # standing body's rocking showed and hid (WorldStatic.shown_and_hidden)
-                rocking = (
-                    self._world_static(level_ranges, directions, kept)
-                    for kept in self._rocking.every(scan.stamp)
-                )
-                static = dataclasses.replace(static, rocking=tuple(rocking))
+            static = WorldStatic(
+                level_ranges,
+                earlier.ranges,
+                directions,
+                layout,
+                earlier.since,
+                STATIC_TOLERANCE_M,
+                earlier.travel_seen,
+                earlier.span_s,
+                earlier.first_step_s,
+                earlier.first_speed_mps,
+            )
         return new, through, view, static, back
-
-    def _world_static(
-        self, level_ranges: np.ndarray, directions: np.ndarray, earlier: Earlier
-    ) -> WorldStatic:
-        """The world-static test of this scan against an ``earlier`` one."""
-        return WorldStatic(
-            level_ranges,
-            earlier.ranges,
-            directions,
-            self._layout,
-            earlier.since,
-            STATIC_TOLERANCE_M,
-            earlier.travel_seen,
-            earlier.span_s,
-            earlier.first_step_s,
-            earlier.first_speed_mps,
-        )
 
     def _reanchor(
         self,
@@ -684,7 +665,6 @@ class ImprovedPitchVariationFilter:
         self._memory.reset()
         self._ego.reset()
         self._recent.clear()
-        self._rocking.clear()
         self._follower.reset()
         self._doubt.reset()
         self._tilted_s = 0.0

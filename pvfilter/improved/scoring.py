@@ -560,21 +560,14 @@ def _world_static_share(
     """Per scored segment: the share of its points that stayed put in the world, where at
     least half of them tell (else 0). Where the sensor stood, a steep line and a wall look
     alike, but a shallow floor line moves with the least change of pitch (``tilt``: the
-    tilt each segment implies, rad; see :class:`~pvfilter.improved.evidence.WorldStatic`);
-    and a return that the standing body's rocking showed and hid at one place stayed put
-    (:meth:`~pvfilter.improved.evidence.WorldStatic.shown_and_hidden`).
+    tilt each segment implies, rad; see :class:`~pvfilter.improved.evidence.WorldStatic`).
     """
     k = len(segments)
     points = indices(scored.take(segments.labels))
     labels = segments.labels.take(points)
     change = standing_pitch_change(tilt, static.hold_tilt_rad)
     shift = floor_shift(tilt, change, params).take(labels)
-    beams = segments.beams.take(points)
-    stayed, telling = static.at(beams, shift)
-    if static.rocking:  # a standing sensor: what its rocking showed and hid stayed put
-        shown = static.shown_and_hidden(beams)
-        stayed |= shown
-        telling |= shown
+    stayed, telling = static.at(segments.beams.take(points), shift)
     told = np.bincount(labels, telling, k)
     share = np.bincount(labels, stayed, k) / np.maximum(told, 1.0)
     return np.where(told >= 0.5 * segments.sizes, share, 0.0)

@@ -246,7 +246,6 @@ class Told:
     """A stand-in world-static test: every point stayed put, and the test tells or not."""
 
     hold_tilt_rad = math.pi / 2  # no tilt a standing robot could not hold
-    rocking = ()  # no scans of a standing body's last second
 
     def __init__(self, tells):
         self.tells = tells
