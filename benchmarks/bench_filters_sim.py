@@ -9,8 +9,9 @@ Prints scans/s of the paper's filter (Table I) and of the improved filter (defau
 robot's LiDAR and axle heights, scans alone; and once more without re-anchoring the level
 view, to show what that stage costs), fed each run's frames in turn a few at a time
 (``in_turn.py``), ``--repeats`` rounds; the median and best of each, and the improved
-filter's time per scan over the paper's, per round (the goal: at most 2x). The filters
-run as ``twsb eval`` runs them.
+filter's time per scan over the paper's, per round (the goal: at most 2x); then, from
+one pass under cProfile, where the improved filter's time goes. The filters run as
+``twsb eval`` runs them.
 
     python benchmarks/bench_filters_sim.py [--repeats 5] [--houses 3]
 """
@@ -18,9 +19,12 @@ run as ``twsb eval`` runs them.
 from __future__ import annotations
 
 import argparse
+import cProfile
 import os
 import platform
+import pstats
 import statistics
+from pathlib import Path
 
 import numpy as np
 import scipy
@@ -35,6 +39,18 @@ SEQUENCES = ("normal_sequence", "disturb_sequence")
 HOUSES = (("house1", None), (None, 11), (None, 12))  # (named layout, random house seed)
 WARM_UP_FRAMES = 50  # frames each filter takes untimed before the timed rounds
 NO_REANCHOR = ImprovedParams(reanchor_view=False)  # what the level view's re-anchoring costs
+STAGES = (  # (label, (module, function)): the improved filter's stages, and parts of them
+    ("line detection", ("detection.py", "detect_lines")),
+    ("  scoring", ("scoring.py", "score_segments")),
+    ("  corners", ("corners.py", "split_at_corners")),
+    ("  claims", ("claims.py", "best_claims")),
+    ("level view moved and compared", ("filter.py", "_evidence")),
+    ("  re-anchoring", ("filter.py", "_reanchor")),
+    ("scan preparation", ("filter.py", "_prepare")),
+    ("  segmentation", ("segmentation.py", "segment_scan")),
+    ("ego-motion match", ("filter.py", "_match")),
+    ("teaching the level view", ("filter.py", "_remember")),
+)
 
 
 def recordings(houses: int) -> list:
@@ -61,6 +77,32 @@ def seconds_per_scan_in_turn(makers: dict, runs: list) -> dict[str, float]:
             elapsed[name] += seconds
         frames += len(run.frames)
     return {name: seconds / frames for name, seconds in elapsed.items()}
+
+
+def where_the_time_goes(runs: list) -> tuple[dict[str, float], float]:
+    """The share of the improved filter's time in each of ``STAGES`` (cumulative, from one
+    pass under cProfile, whose overhead weighs on the many small calls: the shares, not
+    the times, are the point), and the share of frames whose lines were fitted (new
+    returns on a segment across the travel: scored, cut at corners and claimed)."""
+    profile = cProfile.Profile()
+    fitted = frames = 0
+    for run in runs:
+        scan_filter = improved_filter(run, inputs=())
+        scan_filter.reset()
+        for frame in run.frames:
+            profile.enable()
+            result = scan_filter.process(frame)
+            profile.disable()
+            fitted += bool(np.isfinite(result.lines.segment_scores.tilt_rad).any())
+            frames += 1
+    cumulative: dict[tuple[str, str], float] = {}
+    for (path, _, name), (_, _, _, seconds, _) in pstats.Stats(profile).stats.items():
+        if "improved" in Path(path).parts:
+            key = (Path(path).name, name)
+            cumulative[key] = cumulative.get(key, 0.0) + seconds
+    total = cumulative[("filter.py", "process")]
+    shares = {label: cumulative.get(key, 0.0) / total for label, key in STAGES}
+    return shares, fitted / frames
 
 
 def main() -> None:
@@ -103,6 +145,13 @@ def main() -> None:
         f"\nimproved / paper time per scan, per round: median {statistics.median(ratios):.2f}x "
         f"({min(ratios):.2f}-{max(ratios):.2f}x)"
     )
+    shares, fitted = where_the_time_goes(runs)
+    print(
+        f"\nwhere the improved filter's time goes (cProfile, cumulative, its overhead "
+        f"included; lines fitted in {100.0 * fitted:.0f} % of the frames):"
+    )
+    for label, share in shares.items():
+        print(f"  {label:32s} {100.0 * share:5.1f} %")
 
 
 if __name__ == "__main__":
