@@ -160,13 +160,13 @@ def main() -> None:
         f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
         f"{platform.machine()}, {os.cpu_count()} cpus\n"
     )
-    sequential = {
+    in_turn_rows = {  # the sequential configurations, fed the stream in turn
         TABLE_ONE_ROW: table_one,
         "sequential, detection only": FilterParams(tracking=False),
         "sequential, radius clustering": FilterParams(clustering="radius"),
         IMPROVED_ROW: ImprovedParams(),
     }
-    rates = rates_in_turn(sequential, batch, args.repeats)
+    rates = rates_in_turn(in_turn_rows, batch, args.repeats)
     rates[THREADED_ROW], sequential_beside = threaded_rates(table_one, batch, args.repeats)
     print(f"{'configuration':32s} {'scans/s':>16s} {'us/scan':>8s}")
     for name in ROW_ORDER:

@@ -446,8 +446,7 @@ def _long_line_counts(
     The count a strong line needs is an arc of the sweep: a floor line far out spans few
     beams however long it is. Its length is that of a line of evenly spaced points with
     the segment's spread along it (``sqrt(12 var)``)."""
-    length = np.sqrt(12.0 * np.maximum(segments.spread_along, 0.0))
-    new_length = length * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
+    new_length = segments.lengths * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
     long_line = gates & (new_length >= STRONG_LINE_M)
     long_line &= segments.beam_spans <= MAX_ECHO_FILL * segments.sizes
     return np.where(long_line, params.down_side_min_new * new_length / STRONG_LINE_M, 0.0)
@@ -512,7 +511,7 @@ def _length_shares(segments: Segments, strong: np.ndarray, params: ImprovedParam
     Where every strong line is ``line_length_m`` long by itself (most scans with one), its
     share is 1 whatever else lies on it, and those points are not looked for.
     """
-    own = np.sqrt(12.0 * segments.spread_along)
+    own = segments.lengths
     lines = indices(strong)
     if not np.count_nonzero(own.take(lines) < params.line_length_m):  # no strong line short
         return np.minimum(own / params.line_length_m, 1.0)

@@ -288,6 +288,14 @@ class Segments:
         return self._fit[3]
 
     @property
+    def lengths(self) -> np.ndarray:
+        """Each segment's length along its line, m: that of evenly spaced points with its
+        spread along it, ``sqrt(12 var)`` (kept in ``memo``: the scoring asks twice)."""
+        if "lengths" not in self.memo:
+            self.memo["lengths"] = np.sqrt(12.0 * np.maximum(self.spread_along, 0.0))
+        return self.memo["lengths"]
+
+    @property
     def spread_across(self) -> np.ndarray:
         """Variance of each segment's points across its line, m^2 (noise, curvature)."""
         return self._fit[4]
