@@ -15,6 +15,7 @@ import numpy as np
 
 from pvfilter.improved.beams import indices
 from pvfilter.improved.geometry import floor_distance
+from pvfilter.improved.medians import median_of_few
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.segmentation import Segments
 
@@ -188,7 +189,8 @@ def seam_claims(
         outward = math.copysign(1.0, level)  # the normal, away from the sensor
         half = np.arange(bounds[other], bounds[other + 1])
         seam_end = half[-params.min_points :] if other == last else half[: params.min_points]
-        jump_m = _middle(segments.points.take(seam_end, axis=0) @ normal - level) * outward
+        jump_m = median_of_few((segments.points.take(seam_end, axis=0) @ normal - level).tolist())
+        jump_m *= outward
         if abs(jump_m) <= params.extend_tolerance_m:  # on the line itself: the spread's
             continue
         if abs(jump_m) > _pitch_jump_bound(
@@ -216,13 +218,6 @@ def _runs_along(
     across it as a wall the line runs into does (NaN directions: False)."""
     crossing = np.abs(np.cos(directions) * normal_x + np.sin(directions) * normal_y)
     return crossing < math.sin(math.radians(params.line_angle_deg))
-
-
-def _middle(values: np.ndarray) -> float:
-    """The median of a few values (np.median costs many times more on a handful)."""
-    ordered = sorted(values.tolist())
-    n = len(ordered)
-    return 0.5 * (ordered[(n - 1) // 2] + ordered[n // 2])
 
 
 def _pitch_jump_bound(

@@ -48,8 +48,9 @@ def free_space_gaps(
     that comes into range is not new.
     """
     unknown = np.isnan(level)
-    nearest = window_minimum(np.fmin(level, np.inf), WINDOW_BEAMS, layout)  # NaN: inf
-    np.minimum(nearest, range_max, out=nearest)
+    # unknown and farther than range_max: range_max, before the window's minimum (the
+    # least of values capped at range_max is the least of them, capped)
+    nearest = window_minimum(np.fmin(level, range_max), WINDOW_BEAMS, layout)
     gaps = nearest - ranges
     gaps[unknown] = np.nan
     return gaps

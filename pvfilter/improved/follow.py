@@ -50,6 +50,7 @@ import numpy as np
 from pvfilter.improved.clusters import LineDetection
 from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.geometry import TURN_TOLERANCE, folded, line_lean
+from pvfilter.improved.medians import median_of_few
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.scoring import HeldLine, strongest_confident
@@ -161,7 +162,7 @@ class FloorFollower:
         # into a wall at a small angle, one segment, leaning between the two
         latest = recent[-1]
         leans = [folded(line.lean_rad - latest.lean_rad) for line in recent]
-        lean = float(folded(latest.lean_rad + np.median(leans)))
+        lean = float(folded(latest.lean_rad + median_of_few(leans)))
         return HeldLine(earliest.side, earliest.tilt_rad, lean)
 
     def _recent(self, stamp: float) -> list[StrongLine]:

@@ -312,7 +312,7 @@ class LevelMemory:
         """
         self.velocity = velocity if velocity is not None else Motion()
         self.time_increment = time_increment
-        valid = ~np.isnan(ranges)
+        valid = ranges == ranges  # NaN compares False
         if view is None:  # the first scan of a sequence: its returns (its silent beams
             # stay unknown: one scan's silence, a blinded sensor or a dark wall, is not
             # space seen free; the next silent scan frees them)
@@ -335,7 +335,7 @@ class LevelMemory:
         travel_m = math.hypot(self.velocity.tx_m, self.velocity.ty_m) * dt
         creep = params.line_shrink_mps * dt + travel_m
         if creep < shrink and across is not None and np.count_nonzero(across):
-            np.copyto(floor, current - creep, where=across)
+            np.subtract(current, creep, out=floor, where=across)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
         dropped_m, dropped_s = view.dropped_m.copy(), view.dropped_s + dt
@@ -376,14 +376,15 @@ class LevelMemory:
         if past_free.size:
             beyond[past_free] = True
         silent = no_return & (current != np.inf)
+        measured = valid | no_return  # (an echo, or none within range: no NaN, no -inf)
         lost = None
         if np.count_nonzero(silent):
             # no echo beside a return on the view or in front of it: a dropout of that
             # surface, not space seen free (the first and last beams have one neighbour
             # each, on a full turn too: one pair of beams, not worth a wrap)
-            surface = valid & ~beyond
-            silent[1:] &= ~surface[:-1]
-            silent[:-1] &= ~surface[1:]
+            no_surface = beyond | ~valid
+            silent[1:] &= no_surface[:-1]
+            silent[:-1] &= no_surface[1:]
             # nor where the view holds a surface: an echo lost (a floor met at a grazing
             # angle by a plane tilted too little to show a line hides the wall behind it
             # on a whole run of beams) is not space seen free; the surface stays in the
@@ -391,10 +392,9 @@ class LevelMemory:
             lost = silent & (current < np.inf)  # (NaN, unknown, compares False)
             # nor beside a beam the scanner could not measure (NaN, -inf): a body at the
             # edge of range_min reads now too close, now no echo
-            freed = silent & ~lost
-            unmeasured = ~(valid | no_return)
-            freed[1:] &= ~unmeasured[:-1]
-            freed[:-1] &= ~unmeasured[1:]
+            freed = silent ^ lost  # (silent & ~lost: lost lies within silent)
+            freed[1:] &= measured[:-1]
+            freed[:-1] &= measured[1:]
             beyond |= freed
         farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
@@ -409,7 +409,7 @@ class LevelMemory:
                 dropped_m[gave_up] = ranges.take(gave_up) - current.take(gave_up)
                 dropped_s[gave_up] = 0.0
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
-        np.copyto(current, np.fmax(ranges, floor), where=valid & ~beyond)
+        np.fmax(ranges, floor, out=current, where=valid & ~beyond)
         if settled.size:
             current[settled] = ranges.take(settled)
         if taken:  # space seen free long enough joins the view (beyond it: none of the
@@ -418,7 +418,7 @@ class LevelMemory:
             current[no_return & take] = np.inf
             farther[take] = 0.0
         ages = view.ages + dt
-        confirmed = valid | no_return  # a lost echo confirms nothing
+        confirmed = measured  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
         ages[confirmed] = 0.0
@@ -583,9 +583,9 @@ def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> No
             on_left[0] = np.nan
         if hole[-1] == n - 1:
             on_right[-1] = np.nan
-    take_left = ~(np.isnan(on_left) | (on_right < on_left))
-    neighbour = np.where(take_left, left, right)
-    value = np.where(take_left, on_left, on_right)
+    # the nearer neighbour's range, the left one's on a tie (NaN only where both are NaN)
+    value = np.fmin(on_left, on_right)
+    neighbour = np.where(value == on_left, left, right)
     fill = indices(value == value)  # NaN (both neighbours unknown) compares False
     if fill.size < hole.size:
         hole, neighbour, value = hole.take(fill), neighbour.take(fill), value.take(fill)

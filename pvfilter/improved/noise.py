@@ -23,6 +23,8 @@ import math
 
 import numpy as np
 
+from pvfilter.improved.medians import median_in_place, median_of_few
+
 # |N(0, 6 sigma^2)| has the median 0.6745 sqrt(6) sigma
 _MEDIAN_PER_SIGMA = 0.6745 * math.sqrt(6.0)
 
@@ -49,7 +51,7 @@ def range_noise_m(ranges: np.ndarray) -> float:
     second = second[second == second]  # NaN where a beam has no return
     if second.size == 0:
         return math.nan
-    return float(np.median(np.abs(second, out=second))) / _MEDIAN_PER_SIGMA
+    return median_in_place(np.abs(second, out=second)) / _MEDIAN_PER_SIGMA
 
 
 NOISE_WINDOW = 25  # the scanner's noise is the median of this many scans' estimates
@@ -101,7 +103,7 @@ class RangeNoise:
         self._estimates.append(estimate)
         if len(self._estimates) < NOISE_MIN_ESTIMATES:
             return False
-        median = min(float(np.median(self._estimates)), MAX_LINE_NOISE_M)
+        median = min(float(median_of_few(self._estimates)), MAX_LINE_NOISE_M)
         if abs(median - self.noise_m) <= NOISE_HYSTERESIS * self.noise_m:  # NaN: False
             return False
         self.noise_m = median

@@ -33,6 +33,7 @@ from collections import deque
 
 import numpy as np
 
+from pvfilter.improved.medians import median_of_few
 from pvfilter.improved.params import ImprovedParams
 
 ROLL_LINES = 25  # confident lines: the roll is the median of the latest this many
@@ -57,19 +58,6 @@ def line_roll_deg(normal: np.ndarray, tilt_rad: float) -> float:
     return math.degrees(math.asin(min(sin_roll, 1.0)))
 
 
-def _median(values: deque[float]) -> float:
-    """The median of a few floats, as ``np.median`` works it out (the middle one, or the
-    two middle ones' sum halved), at a twentieth of its cost on the 25 lines kept: the
-    filter asks for the bound on every scan with a confident line."""
-    if any(value != value for value in values):  # NaN: np.median's own answer (NaN)
-        return float(np.median(values))
-    ordered = sorted(values)
-    middle = len(ordered) // 2
-    if len(ordered) % 2:
-        return ordered[middle]
-    return (ordered[middle - 1] + ordered[middle]) / 2.0
-
-
 class RollBound:
     """The roll the lean gates allow: ``max_roll_deg``, or what the scans measured."""
 
@@ -90,7 +78,7 @@ class RollBound:
         """The roll the gates allow now, deg."""
         if len(self.measured_deg) < ROLL_MIN_LINES:
             return self.params.max_roll_deg
-        measured = _median(self.measured_deg) + ROLL_MARGIN_DEG
+        measured = median_of_few(self.measured_deg) + ROLL_MARGIN_DEG
         return max(self.params.max_roll_deg, measured)
 
     def applied(self, params: ImprovedParams) -> ImprovedParams:
