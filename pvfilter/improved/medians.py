@@ -3,11 +3,14 @@
 ``np.median`` works through several Python layers (the axis, a NaN check, the mean of the
 middle elements): about 25 us for the 700 second differences of a scan or for a handful
 of floats, where a partition or a sort in Python takes 3-6 us. The filter takes such
-medians on every fourth scan (the range noise, :mod:`pvfilter.improved.noise`) and on
-every scan with a confident line (the roll, :mod:`pvfilter.improved.roll`).
+medians on every fourth scan (the range noise, :mod:`pvfilter.improved.noise`), on every
+scan with a confident line (the roll, :mod:`pvfilter.improved.roll`), and for a seam's
+jump (:func:`pvfilter.improved.claims.seam_claims`) and a held line's direction
+(:meth:`pvfilter.improved.follow.FloorFollower.held`).
 
 Both give what ``np.median`` gives: the middle element, or the two middle ones' sum
-halved (``np.median`` takes their mean, the same float).
+halved (``np.median`` takes their mean, the same float); only where 0.0 and -0.0 tie
+for the middle may the zero's sign differ, which none of the filter's uses tells apart.
 """
 
 from __future__ import annotations
