@@ -103,7 +103,7 @@ class RangeNoise:
         self._estimates.append(estimate)
         if len(self._estimates) < NOISE_MIN_ESTIMATES:
             return False
-        median = min(float(median_of_few(self._estimates)), MAX_LINE_NOISE_M)
+        median = min(median_of_few(self._estimates), MAX_LINE_NOISE_M)
         if abs(median - self.noise_m) <= NOISE_HYSTERESIS * self.noise_m:  # NaN: False
             return False
         self.noise_m = median
