@@ -28,8 +28,9 @@ key                       shape       meaning
 
 The output file holds every input array unchanged except ``ranges``, which holds the
 filtered ranges (removed beams are NaN), plus ``removed`` (bool, (m, n)) and ``scores``
-(float64, (m, n), P(C_pv) of each beam's cluster). Other input arrays (labels, say) pass
-through, so the output is itself a valid input file.
+(float64, (m, n): P(C_pv) of each beam's cluster; the improved filter's claim scores).
+Other input arrays (labels, say) pass through, so the output is itself a valid input
+file.
 
 A file whose ``angle_increment`` is negative (beams clockwise, as ROS allows and some
 drivers and simulators write; every scan of a file in one order) is read reversed, as

@@ -247,7 +247,7 @@ class ImprovedPitchVariationFilter:
             new_or_line = found.new | detection.candidates
             level = not _shows_tilt(detection.tilted, attitude)
             self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level)
-        # remove: the beams of every detected segment become NaN
+        # remove: the beams whose claim score exceeds p_th become NaN
         return removal(detection)
 
     def _learn_roll(self, detection: LineDetection, outcome: _MatchOutcome) -> None:

@@ -139,7 +139,9 @@ class ImprovedParams:
             twice its count; a line whose new points span ``STRONG_LINE_M`` of it counts
             this many for each such length, however few beams it spans:
             :mod:`pvfilter.improved.scoring`).
-        p_th: a segment is removed when its score exceeds this, 1.
+        p_th: a beam is removed when its claim score exceeds this (the best score of the
+            lines that take it in; at least 0.01 on a new return, so a ``p_th`` below that
+            removes every new return), 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.
     """

@@ -180,7 +180,10 @@ def describe_false_alarms(
     Any filter whose result has clusters (:meth:`pvfilter.FilterResult.cluster_view`).
 
     Returns:
-        Counter of ``(kind, "first seen" | "seen before", "detected" | "tracked")`` -> beams.
+        Counter of ``(kind, "first seen" | "seen before", how)`` -> beams, ``how`` one of
+        ``"detected"``, ``"tracked"`` and ``"new return"``: removed by no detected or
+        tracked cluster (the improved filter at a ``p_th`` below its ``NEW_RETURN_SCORE``
+        removes every new return, in a cluster or not).
     """
     positive, finite = is_pitch_variation(frame.labels), np.isfinite(frame.scan.ranges)
     beams = np.flatnonzero(result.removed & finite & ~positive)
@@ -188,13 +191,15 @@ def describe_false_alarms(
         return Counter()
     new = first_seen(frame, previous, beams)
     view = result.cluster_view()
-    cluster_of = view.clusters.labels[beams]
-    detected = view.detected[cluster_of]
+    cluster_of = view.clusters.labels[beams]  # -1: in no cluster
+    detected = np.append(view.detected, False)[cluster_of]
+    tracked = np.append(view.tracked, False)[cluster_of]
+    how = np.where(detected, "detected", np.where(tracked, "tracked", "new return"))
     ids = frame.geom_ids[beams] if frame.geom_ids is not None else np.full(beams.size, -1)
     kinds = [surface_kind(geom_names[g]) if g >= 0 else "other" for g in ids.tolist()]
     return Counter(
-        (kind, "first seen" if n else "seen before", "detected" if d else "tracked")
-        for kind, n, d in zip(kinds, new.tolist(), detected.tolist(), strict=True)
+        (kind, "first seen" if n else "seen before", h)
+        for kind, n, h in zip(kinds, new.tolist(), how.tolist(), strict=True)
     )
 
 
@@ -204,7 +209,8 @@ class RunDiagnosis:
 
     Attributes:
         misses: stage key -> missed beams.
-        false_alarms: (kind, first seen?, detected/tracked) -> false-alarm beams.
+        false_alarms: (kind, first seen?, detected / tracked / new return) -> false-alarm
+            beams.
         examples: reason key (a stage key, or ``false_alarm``) -> (beams, snapshot) of
             the frame with the most beams for that reason.
         scores: per cluster that passed the ``v_C`` gate, a row (mostly pitch variation,

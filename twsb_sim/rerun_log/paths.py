@@ -47,7 +47,7 @@ PLOT_YAW_RATE = "plots/yaw_rate"  # deg/s: command, actual
 PLOT_WHEEL_TORQUE = "plots/wheel_torque"  # N·m: left, right
 PLOT_BEAMS = "plots/beams"  # count: pitch-variation beams (truth), removed (filter)
 PLOT_PRECISION_RECALL = "plots/precision_recall"  # per frame
-PLOT_P_PV = "plots/p_pv"  # max P(C_pv) over the frame's clusters, and P_th
+PLOT_P_PV = "plots/p_pv"  # the frame's highest beam score, and P_th
 
 EVENTS = "events"  # TextLog: phases, shoves, falls
 LEGEND = "legend"  # TextDocument: what the colours mean

@@ -53,7 +53,7 @@ SERIES_STYLES = {
         [(255, 140, 0), (40, 200, 80)],
     ),
     paths.PLOT_PRECISION_RECALL: (["precision", "recall"], [(60, 160, 255), (255, 80, 160)]),
-    paths.PLOT_P_PV: (["max P(C_pv) of the clusters", "P_th"], [(255, 50, 50), (150, 150, 150)]),
+    paths.PLOT_P_PV: (["max beam score", "P_th"], [(255, 50, 50), (150, 150, 150)]),
 }
 
 
@@ -87,7 +87,8 @@ def filter_counts(batch: FrameBatch) -> np.ndarray:
 
 
 def log_filter_series(rec: rr.RecordingStream, batch: FrameBatch, p_th: float) -> None:
-    """Beam counts (truth and removed), precision and recall, max P(C_pv) against P_th.
+    """Beam counts (truth and removed), precision and recall, the highest beam score
+    against P_th.
 
     Args:
         rec: the recording.
@@ -95,7 +96,8 @@ def log_filter_series(rec: rr.RecordingStream, batch: FrameBatch, p_th: float) -
         p_th: the filter's detection threshold (NaN when unknown).
     """
     counts = filter_counts(batch)
-    # a beam's score is its cluster's P(C_pv): the max over beams is the max over clusters
+    # a beam's score is its cluster's P(C_pv) (the improved filter's: its claim score, at
+    # least 0.01 on a new return): a beam is removed exactly when it exceeds P_th
     max_p_pv = np.full(len(batch), math.nan)
     scored = [i for i, r in enumerate(batch.results) if hasattr(r, "scores")]
     if scored:

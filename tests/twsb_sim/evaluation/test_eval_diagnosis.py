@@ -5,7 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pvfilter import FilterParams, PitchVariationFilter
+from pvfilter import (
+    FilterParams,
+    ImprovedParams,
+    ImprovedPitchVariationFilter,
+    PitchVariationFilter,
+)
 from pvfilter.synthetic import cross_line, room_segments
 from twsb_sim.evaluation.diagnosis import (
     MISS_STAGES,
@@ -112,6 +117,22 @@ def test_a_door_frame_seen_for_the_first_time_is_named_as_the_false_alarm(make_f
     assert sum(described.values()) == int(result.removed.sum())
     again = describe_false_alarms(after, after, result, GEOM_NAMES)
     assert set(again) == {("door frame", "seen before", "detected")}
+
+
+def test_a_new_return_removed_outside_every_cluster_is_named_so(make_frame):
+    # the improved filter at a p_th below its NEW_RETURN_SCORE removes every new return:
+    # here a door frame's side along the travel, which no line takes in (not across)
+    before = make_frame(0, ROOM, structure_geom=0)
+    side = np.array([[[0.8, 1.0], [1.6, 1.0]]])  # m: 1 m to the left, along the travel
+    after = make_frame(1, np.concatenate((ROOM, side)), structure_geom=2)
+    f = ImprovedPitchVariationFilter(ImprovedParams(p_th=0.005))
+    f.process(before.scan)
+    result = f.process(after.scan)
+    assert result.removed.sum() >= 10
+    assert not result.cluster_view().detected.any()
+    described = describe_false_alarms(after, before, result, GEOM_NAMES)
+    assert set(described) == {("door frame", "first seen", "new return")}
+    assert sum(described.values()) == int(result.removed.sum())
 
 
 def test_a_run_diagnosis_adds_up_the_frames_and_keeps_examples(make_frame):
