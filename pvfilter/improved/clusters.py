@@ -25,13 +25,6 @@ from pvfilter.scan import Scan
 CANDIDATE_SHARE = 0.25  # 1: segments that pass the gates and score above this are
 # candidate lines whatever p_th: the next ego-motion fit leaves them out, the level view
 # holds behind them, and with enough new points they mark the scan as tilted
-NEW_RETURN_SCORE = 0.01  # 1: the least claim score of a new return (in space the level
-# view saw free), where no line takes it in with more: a rank, not a calibrated
-# probability. Such returns are pitch variation far more often than the returns the view
-# knows (on the independent sequences about 10 % against under 1 %) and far less often
-# than the returns of scored lines; this score puts them between the two, below the
-# scores scoring gives from a line's evidence, so a PR sweep ranks them last but not
-# with the returns the view knows. Only a p_th below it removes them
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -55,7 +48,7 @@ class LineDetection:
             points: its plane was tilted (the level view does not learn from it).
         motion: the ego-motion from the previous scan.
         claim_scores: per beam, the best score of the lines that take it in, and at least
-            ``NEW_RETURN_SCORE`` where the return is new: the beam is
+            ``new_return_score`` where the return is new: the beam is
             removed exactly when this exceeds ``p_th``.
         level_view_m: per beam, where the level view the scan was compared with lies
             along it, m: the remembered level scans moved into this scan's frame. NaN
@@ -200,8 +193,12 @@ def build_detection(
     else:
         claim_scores[segments.beams] = best
         candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
-    if np.count_nonzero(new):  # (most scans: none)
-        np.maximum(claim_scores, NEW_RETURN_SCORE, out=claim_scores, where=new)
+    # a new return no line takes in ranks above the returns the view knows: pitch
+    # variation far more often than they (on the independent sequences about 10 % against
+    # under 1 %), far less often than a scored line's returns; below p_th it is ranked,
+    # not removed
+    if params.new_return_score > 0.0 and np.count_nonzero(new):  # (most scans: none new)
+        np.maximum(claim_scores, params.new_return_score, out=claim_scores, where=new)
     if candidate is not None and np.count_nonzero(candidate):  # (count_nonzero: any())
         candidates[segments.beams] = candidate.take(labels)
         strong = candidate & (scores.new_counts >= params.down_side_min_new)

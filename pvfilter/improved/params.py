@@ -139,9 +139,16 @@ class ImprovedParams:
             twice its count; a line whose new points span ``STRONG_LINE_M`` of it counts
             this many for each such length, however few beams it spans:
             :mod:`pvfilter.improved.scoring`).
+        new_return_score: the claim score of a new return (in space the level view saw
+            free) that no line takes in with more, 1: a rank, not a calibrated
+            probability (:mod:`pvfilter.improved.clusters`). Such returns are pitch
+            variation far more often than the returns the view knows, which score 0, and
+            far less often than a scored line's. Below ``p_th`` (the default) they are
+            ranked, not removed; 0: they score 0 too, as outside every cluster of the
+            paper's filter.
         p_th: a beam is removed when its claim score exceeds this (the best score of the
-            lines that take it in; at least 0.01 on a new return, so a ``p_th`` below that
-            removes every new return), 1.
+            lines that take it in; at least ``new_return_score`` on a new return, so a
+            ``p_th`` below that removes every new return), 1.
         imu_angle_error_deg: how far the IMU's pitch may be from the scan plane's, deg:
             bias, noise, and its lag times the pitch rate.
     """
@@ -180,6 +187,7 @@ class ImprovedParams:
     claimed_not_new_weight: float = 0.5  # 1
     up_side_weight: float = 0.3  # 1
     down_side_min_new: int = 20  # points
+    new_return_score: float = 0.01  # 1
     p_th: float = 0.5  # 1
     imu_angle_error_deg: float = 2.0  # deg
 
@@ -220,6 +228,7 @@ class ImprovedParams:
             upper=1.0,
             closed=True,
         )
+        check_number("new_return_score", self.new_return_score, lower=0.0, upper=1.0, closed=True)
         check_number("p_th", self.p_th, lower=0.0, upper=1.0, closed=True)
         check_number(
             "imu_angle_error_deg", self.imu_angle_error_deg, lower=0.0, upper=90.0, closed=True

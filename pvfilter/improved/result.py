@@ -43,7 +43,7 @@ class ImprovedResult(FilterResult):
         scan: the input scan with removed beams set to NaN (same length).
         removed: bool per beam: ``scores > p_th``.
         scores: per beam, the claim score: the best score of the lines that take the beam
-            in, at least ``NEW_RETURN_SCORE`` (0.01) on a new return
+            in, at least ``new_return_score`` (0.01) on a new return
             (:mod:`pvfilter.improved.clusters`); the beam is removed exactly when it
             exceeds ``p_th``, whatever ``p_th``.
         lines: the per-cluster and per-beam detail.
@@ -84,7 +84,7 @@ def removal(detection: LineDetection) -> ImprovedResult:
     """The filter's result: the beams whose claim score exceeds ``p_th`` become NaN.
 
     The per-beam scores are the claim scores: a beam's score exceeds ``p_th`` exactly when
-    it is removed, whatever ``p_th``. Above ``NEW_RETURN_SCORE`` those are the beams of the
+    it is removed, whatever ``p_th``. Above ``new_return_score`` those are the beams of the
     detected clusters; a ``p_th`` below it removes every new return too, in a cluster or
     not.
     """

@@ -182,7 +182,7 @@ def describe_false_alarms(
     Returns:
         Counter of ``(kind, "first seen" | "seen before", how)`` -> beams, ``how`` one of
         ``"detected"``, ``"tracked"`` and ``"new return"``: removed by no detected or
-        tracked cluster (the improved filter at a ``p_th`` below its ``NEW_RETURN_SCORE``
+        tracked cluster (the improved filter at a ``p_th`` below its ``new_return_score``
         removes every new return, in a cluster or not).
     """
     positive, finite = is_pitch_variation(frame.labels), np.isfinite(frame.scan.ranges)

@@ -91,6 +91,10 @@ ABLATION: dict[str, tuple[str, Callable[[ImprovedParams], ImprovedParams]]] = {
         "weighting a line by its length (a short line scores as a whole floor line)",
         lambda p: _set(p, line_length_m=0.0),
     ),
+    "no_new_return_score": (
+        "the score of a new return that no line takes in (it scores 0, as a known return)",
+        lambda p: _set(p, new_return_score=0.0),
+    ),
     "no_sweep_bend": (
         "allowing for the bend a pitch rate puts in a rotating scan's floor line",
         lambda p: _set(p, max_pitch_rate_rad_s=0.0),

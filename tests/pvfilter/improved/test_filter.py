@@ -16,7 +16,6 @@ from pvfilter import (
     ScanFilter,
     StampWentBackWarning,
 )
-from pvfilter.improved.clusters import NEW_RETURN_SCORE
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.filter import blind_margin_m
 from pvfilter.improved.imu import ImuSignWarning
@@ -384,20 +383,24 @@ def test_one_pass_scores_give_every_threshold_exactly():
 
 def test_a_new_return_no_line_explains_ranks_above_the_known_ones_and_stays():
     # a box side along the travel comes into the standing sensor's view: new returns on no
-    # floor line (not across the travel). They keep NEW_RETURN_SCORE: not removed at the
-    # default p_th, removed by a p_th below it, above every return the view knows
+    # floor line (not across the travel). They keep new_return_score: not removed at the
+    # default p_th, removed by a p_th below it, above every return the view knows; with
+    # new_return_score 0, they score 0 as the known returns do
     box = np.array([[[0.8, 1.0], [1.6, 1.0]]])  # world, m: 1 m to the left
     pvf = ImprovedPitchVariationFilter()
-    low = ImprovedPitchVariationFilter(ImprovedParams(p_th=0.5 * NEW_RETURN_SCORE))
+    score = ImprovedParams().new_return_score
+    low = ImprovedPitchVariationFilter(ImprovedParams(p_th=0.5 * score))
+    off = ImprovedPitchVariationFilter(ImprovedParams(new_return_score=0.0))
     for k in range(6):
         extra = box if k == 5 else None
         scan = room_scan(stamp=0.1 * k, extra=extra, seed=k)[0]
-        result, aggressive = pvf.process(scan), low.process(scan)
+        result, aggressive, none = pvf.process(scan), low.process(scan), off.process(scan)
     new = result.lines.new_points
     assert new.sum() >= 10 and np.isfinite(scan.ranges[new]).all()
-    np.testing.assert_array_equal(result.scores[new], NEW_RETURN_SCORE)
+    np.testing.assert_array_equal(result.scores[new], score)
     assert (result.scores[~new] == 0.0).all() and not result.removed.any()
     np.testing.assert_array_equal(aggressive.removed, new)
+    assert (none.scores == 0.0).all() and np.array_equal(none.lines.new_points, new)
 
 
 def test_reset_and_stamps_going_back():

@@ -33,6 +33,8 @@ def test_defaults_are_valid_and_physical():
         ("max_gap_s", 0.0, "max_gap_s: must be > 0 s"),
         ("odom_slip", 2.0, "odom_slip: must be <= 1"),
         ("line_length_m", -1.0, "line_length_m: must be >= 0 m"),
+        ("new_return_score", -0.01, "new_return_score: must be >= 0"),
+        ("new_return_score", 1.5, "new_return_score: must be <= 1"),
     ],
 )
 def test_invalid_values_raise_naming_the_field(field, value, message):
@@ -43,7 +45,7 @@ def test_invalid_values_raise_naming_the_field(field, value, message):
 def test_switches_that_turn_parts_off_are_accepted():
     ImprovedParams(memory_shrink_mps=float("inf"), max_event_s=float("inf"), extend_beams=0,
                    spread=False, ego_motion=False, max_gap_s=float("inf"),
-                   line_length_m=0.0)  # fmt: skip
+                   line_length_m=0.0, new_return_score=0.0)  # fmt: skip
 
 
 def test_point_counts_scale_with_the_beam_spacing():

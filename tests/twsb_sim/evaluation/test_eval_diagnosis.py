@@ -120,7 +120,7 @@ def test_a_door_frame_seen_for_the_first_time_is_named_as_the_false_alarm(make_f
 
 
 def test_a_new_return_removed_outside_every_cluster_is_named_so(make_frame):
-    # the improved filter at a p_th below its NEW_RETURN_SCORE removes every new return:
+    # the improved filter at a p_th below its new_return_score removes every new return:
     # here a door frame's side along the travel, which no line takes in (not across)
     before = make_frame(0, ROOM, structure_geom=0)
     side = np.array([[[0.8, 1.0], [1.6, 1.0]]])  # m: 1 m to the left, along the travel
