@@ -249,15 +249,46 @@ class EgoMotion:
         )
         trusted &= found.translation_m <= MAX_SPEED_MPS * since_s + self.params.association_m
         if odometry:
-            off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
-            off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
-            trusted &= off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
-            trusted &= off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+            trusted &= self._within_odometry_spread(found, expected, spread)
             if trusted and self.coasted_s == 0.0:
+                off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
                 self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
+
+    def _within_odometry_spread(
+        self, found: Motion, expected: Motion, spread: tuple[float, float]
+    ) -> bool:
+        """``found`` lies within ``ODOM_SIGMAS`` of the odometry's ``spread`` (rad, m) of
+        ``expected``, with the match's own uncertainty (2 degrees, half ``association_m``)."""
+        off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
+        off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
+        return (
+            off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
+            and off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+        )
+
+    def wheels_slipped(
+        self, wheel_step: Motion, spread: tuple[float, float], dt: float, alone: Match
+    ) -> bool:
+        """The wheels slipped, and the scans measured the step: two witnesses against one.
+
+        Where a match fails against the odometry, either the match is wrong (floor lines
+        pull it) or the wheels are (a shove spins one, and the odometry turns the wrong
+        way). The velocity measured between the last two level scans is a third witness
+        where it is fresh (``steady``, no coasting since): if the match made without the
+        wheels (``alone``, trusted) lies within the odometry's spread of the constant
+        velocity, and the wheels' step ``wheel_step`` does not, the wheels are the odd
+        one out. A hard stop or a spin moves the wheels off a stale velocity too; the
+        velocity is only a witness while fresh.
+        """
+        if not (alone.trusted and self.steady and self.coasted_s == 0.0):
+            return False
+        constant = self.velocity.scaled(dt)
+        return self._within_odometry_spread(
+            alone.step, constant, spread
+        ) and not self._within_odometry_spread(wheel_step, constant, spread)
 
     def _within_steady_doubt(self, found: Motion, expected: Motion, since_s: float) -> Motion:
         """``found`` with its drive off the constant-velocity prior by no more than the

@@ -87,7 +87,10 @@ class _Prepared(NamedTuple):
         mid_points: its points in the mid-scan frame (deskewed with ``velocity``), m.
         velocity: the prior's motion per second.
         dt: the time since the previous scan, s.
-        pose: the odometry pose (None: no odometry).
+        pose: the odometry pose where its step from the previous scan's is one the robot
+            can make (None: no odometry, or its wheels slipped).
+        wheel_pose: the odometry pose as given (None: no odometry): the next scan's step
+            starts from it, slipped or not.
         attitude: the IMU's attitude (None: no IMU).
     """
 
@@ -102,6 +105,7 @@ class _Prepared(NamedTuple):
     velocity: Motion
     dt: float
     pose: np.ndarray | None
+    wheel_pose: np.ndarray | None
     attitude: Attitude | None
 
 
@@ -117,6 +121,9 @@ class _MatchOutcome:
             shows a pitch event (a strong candidate line), else the filter re-baselines.
         travel_seen: the step's drive was measured in every direction: by the wheels, or
             by a trusted match with support along all of them (not a guess coasted on).
+        wheels_slipped: the odometry's step disagreed with both the match made without
+            it and the velocity before; the match carries the motion
+            (:meth:`~pvfilter.improved.egomotion.EgoMotion.wheels_slipped`).
     """
 
     match: Match
@@ -124,6 +131,7 @@ class _MatchOutcome:
     coast: bool = False
     onset: bool = False
     travel_seen: bool = True
+    wheels_slipped: bool = False
 
 
 _AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
@@ -221,7 +229,8 @@ class ImprovedPitchVariationFilter:
         odometry_prior = prepared.pose is not None and self._ego.pose is not None
         outcome = self._match(prepared, prior, fresh, odometry_prior)
         if not outcome.fresh:  # the view's doubt along what the match could not see
-            weak = SEEN if odometry_prior else outcome.match.weak  # the wheels measure it
+            wheels = odometry_prior and not outcome.wheels_slipped
+            weak = SEEN if wheels else outcome.match.weak  # the wheels measure it
             span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
             self._doubt.carry(outcome.match.step.theta_rad, weak, span_s)
         found = self._detect(prepared, outcome)
@@ -234,7 +243,7 @@ class ImprovedPitchVariationFilter:
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
+            guessed = outcome.fresh or (outcome.coast and prepared.pose is None)  # no view to trust
             confident = None if guessed else line_pitch(detection.segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted, scores.scan_down_side)
         self._learn_roll(detection, outcome)
@@ -302,7 +311,7 @@ class ImprovedPitchVariationFilter:
         directions[beams] = segments.directions
         # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
         # step no robot of this class can make is slip, and no prior)
-        pose = self._ego.plausible_pose(pose, dt)
+        wheel_pose, pose = pose, self._ego.plausible_pose(pose, dt)
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = deskew(points, layout, scan.time_increment, velocity)
@@ -323,6 +332,7 @@ class ImprovedPitchVariationFilter:
             velocity,
             dt,
             pose,
+            wheel_pose,
             attitude,
         )
         return prepared, prior
@@ -394,6 +404,8 @@ class ImprovedPitchVariationFilter:
         too, as an **onset**: if it shows no pitch event after all (no strong candidate
         line), the filter re-baselines and the scan removes nothing. Otherwise an
         untrusted match re-baselines. ``wheels``: the prior is the wheel odometry's.
+        A match that fails against the odometry is made again without it: where the
+        wheels slipped (a shove spins one), it carries the motion instead of them.
         """
         if fresh:
             self._rebaseline()
@@ -412,6 +424,20 @@ class ImprovedPitchVariationFilter:
         )
         if match.trusted:
             return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS)
+        if pose is not None:  # the match failed against the wheels: did they slip?
+            alone = self._ego.match(
+                self._layout,
+                prepared.mid_points,
+                prepared.directions,
+                dt,
+                self._ego.prior(dt, None),
+                False,
+                imu_tilt,
+                attitude is not None and attitude.tilted,
+            )
+            if self._ego.wheels_slipped(prior[0], prior[1], dt, alone):
+                seen = alone.weak[0] >= WEAK_ROWS
+                return _MatchOutcome(alone, travel_seen=seen, wheels_slipped=True)
         in_event = 0.0 < self._tilted_s <= self.params.max_event_s
         known = self._ego.reference is not None
         onset = self._tilted_s == 0.0 and known and pose is None
@@ -419,7 +445,9 @@ class ImprovedPitchVariationFilter:
         if not (in_event or onset or proven):
             self._rebaseline()
             return _AFRESH
-        coasted = self._ego.coast(match, match.tilt_rad, dt, pose)
+        # the next step starts from the wheels' pose now, slipped or not: from None, the
+        # next pose would pass unchecked, and a slip that lasts two scans would be taken in
+        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose)
         return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels)
 
     def _remember(self, prepared: _Prepared, found: _Found, coast: bool) -> None:

@@ -99,6 +99,28 @@ def test_an_odometry_step_no_robot_can_make_is_slip_and_no_prior():
     assert not found.trusted
 
 
+@pytest.mark.parametrize(
+    ("velocity_fresh", "scans_turn", "wheels_turn", "slipped"),
+    [(True, 0.0, 0.22, True), (True, 0.22, 0.22, False), (True, 0.22, 0.0, False),
+     (False, 0.0, 0.22, False)],
+)  # fmt: skip
+def test_wheels_slipped_when_both_other_witnesses_disagree_with_them(
+    velocity_fresh, scans_turn, wheels_turn, slipped
+):
+    # driving straight at 0.5 m/s (the velocity measured between two level scans); a
+    # match without the wheels and the wheels' step, each turning or not in one step. A
+    # velocity carried over a coasted event is no witness (a hard stop or a spin moves
+    # the wheels off it rightly)
+    ego = EgoMotion(PARAMS)
+    ego.velocity, ego.steady = Motion(0.0, -0.5, 0.0), True
+    ego.coasted_s = 0.0 if velocity_fresh else 0.3
+    alone = egomotion.Match(Motion(scans_turn, -0.05, 0.0), True)
+    wheels = Motion(wheels_turn, -0.05, 0.0)
+    spread = (math.radians(0.5), 0.01)  # the odometry's, rad and m
+    assert ego.wheels_slipped(wheels, spread, DT, alone) is slipped
+    assert not ego.wheels_slipped(wheels, spread, DT, egomotion.Match(alone.step, False))
+
+
 def test_a_match_far_from_the_odometry_or_without_pairs_is_not_trusted():
     room = room_segments(3.0, 3.0, 2.0, 2.0)
     before, _ = tilted_scan(walls=room)

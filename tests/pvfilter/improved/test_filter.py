@@ -301,6 +301,47 @@ def test_a_shove_that_spins_a_wheel_does_not_carry_the_filter_away():
         assert not result.removed.any(), k
 
 
+def test_a_slip_over_two_scans_is_judged_from_the_first_slipped_pose():
+    # a shove spins a wheel as the robot pitches: the odometry reads a radian of turn in
+    # each of two steps. The first slipped scan shows only its floor line and coasts; the
+    # next step must still be judged from the pose the wheels gave there (the old code
+    # kept none, and took the second slipped pose unchecked, as the wheels' word)
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(9):
+        x_m = 0.05 * k - 1.0
+        scan, hit = tilted_scan(
+            (x_m, 0.0, 0.0), math.radians(10.0 if k == 8 else 0.0), stamp=0.1 * k
+        )
+        pose = (x_m, 0.0, 1.0 if k == 8 else 0.0)
+        if k == 8:  # the floor line alone
+            scan = scan.with_ranges(np.where(hit == 2, scan.ranges, np.inf))
+        result = pvf.process(scan, pose_sensor_in_odom=pose)
+    assert result.lines.coasted
+    assert pvf._ego.pose == pytest.approx(pose)
+    assert pvf._ego.plausible_pose(np.array([x_m + 0.05, 0.0, 2.0]), 0.1) is None
+
+
+def test_wheels_that_slip_into_a_turn_give_way_to_the_scans():
+    # driving straight and level at 0.5 m/s; at scan 8 a shove spins one wheel and the
+    # odometry reads a turn of 0.22 rad in that step: a turn a robot of this class can
+    # make (2.2 rad/s), so no slip by itself, but beyond the odometry's spread of what the
+    # scans matched. The velocity measured over the level scans before agrees with the
+    # scans: the wheels are the odd one out, and the scans carry the step. (The old code
+    # coasted on the wheels' turn.)
+    x = [0.05 * k for k in range(16)]
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(16):
+        scan, _ = tilted_scan((x[k] - 1.0, 0.0, 0.0), 0.0, stamp=0.1 * k)
+        yaw = 0.22 if k >= 8 else 0.0
+        result = pvf.process(scan, pose_sensor_in_odom=(x[k], 0.0, yaw))
+        if k:
+            assert not result.lines.coasted and not result.lines.new_sequence, k
+            assert result.lines.motion.theta_rad == pytest.approx(0.0, abs=0.01), k
+        assert not result.removed.any(), k
+
+
 def test_a_noisy_scanner_keeps_its_level_view():
     # 8 cm of range noise, driving level at 0.5 m/s: right matches leave more than the
     # fixed residual bound, and the scan's own noise explains it; the filter neither
