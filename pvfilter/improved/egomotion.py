@@ -14,7 +14,10 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   ``1 - cos(tilt)``, which the match reads as travel;
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a
   spread that grows with the step: the wheels slip on hard stops; a step faster than the
-  robot can turn or drive is slip, not motion: :meth:`EgoMotion.plausible_pose`), else
+  robot can turn or drive is slip, not motion, and so is the step after it:
+  :meth:`EgoMotion.plausible_pose`; a match that fails against the odometry while the
+  match without it and the velocity before agree is taken as the wheels' slip:
+  :meth:`EgoMotion.wheels_slipped`), else
   the last step at constant velocity; where that finds no pairs of points (a velocity
   from a bad match in a pitch event puts every wall farther off than ``association_m``,
   and a coasting filter would carry it for ``max_event_s``), the match is tried once
@@ -127,23 +130,33 @@ class EgoMotion:
         self.coasted_s = 0.0  # time from the reference to the previous scan, s (coasting)
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
+        # the wheels slipped in the step to it: the step from it is no prior either (a
+        # wheel that spun may spin on, at a rate a robot can turn)
+        self.slipped = False
         self.tilt = 0.0  # the previous scan's tilt, rad
         self.level = False  # the previous scan was level (no floor line, no IMU tilt)
         self.steady = False  # the velocity was measured between two level scans in a row
 
-    def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
-        """``pose``, or None where the odometry's step to it from the previous scan's turns
-        or drives faster than a robot of this class can (``max_yaw_rate_rad_s``,
-        ``MAX_SPEED_MPS``, as a match is judged): its wheels slipped, as a shove can spin
-        them, and the odometry then reads a turn of a radian in a tenth of a second. The
-        scan is matched as without odometry then, and the next step starts from the next
-        pose."""
+    def plausible_step(self, pose: np.ndarray | None, dt: float) -> bool:
+        """The odometry's step to ``pose`` from the previous scan's turns and drives no
+        faster than a robot of this class can (``max_yaw_rate_rad_s``, ``MAX_SPEED_MPS``,
+        as a match is judged); True where there is no step to judge. A shove can spin a
+        wheel, and the odometry then reads a turn of a radian in a tenth of a second."""
         if pose is None or self.pose is None or dt <= 0.0:
-            return pose
+            return True
         step = odometry_motion(self.pose, pose)
         turn_ok = abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
         drive_ok = step.translation_m <= MAX_SPEED_MPS * dt + self.params.association_m
-        return pose if turn_ok and drive_ok else None
+        return turn_ok and drive_ok
+
+    def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
+        """``pose``, or None where the wheels slipped: in the step to it
+        (:meth:`plausible_step`), or in the step before (:attr:`slipped`). The scan is
+        matched as without odometry then. The next step starts from ``pose`` all the
+        same (:meth:`commit` and :meth:`coast` keep the pose as given)."""
+        if self.slipped or not self.plausible_step(pose, dt):
+            return None
+        return pose
 
     def prior(self, dt: float, pose: np.ndarray | None) -> tuple[Motion, tuple[float, float]]:
         """The step expected from the previous scan to this one, and its spread (rad, m)."""
@@ -341,7 +354,14 @@ class EgoMotion:
         whose wheels slide in every turn, is not."""
         return self.odometry_disagreement <= 1.0
 
-    def coast(self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None) -> Match:
+    def coast(
+        self,
+        match: Match,
+        tilt_rad: float,
+        dt: float,
+        pose: np.ndarray | None,
+        slipped: bool = False,
+    ) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
         stays the reference, and the motion since is what the prior expected.
 
@@ -349,10 +369,12 @@ class EgoMotion:
             match: the failed match (its step: the prior's).
             tilt_rad: the scan's tilt, rad.
             dt: the time since the previous scan, s.
-            pose: the odometry pose now (None: no odometry); the next prior is the odometry's step
-                from here, as the coasted motion already holds the steps up to here.
+            pose: the odometry pose now, as given (None: no odometry); the next prior is the
+                odometry's step from here, as the coasted motion already holds the steps up
+                to here.
+            slipped: the wheels slipped in the step to ``pose`` (:attr:`slipped`).
         """
-        self._carry(match.step, tilt_rad, dt, pose)
+        self._carry(match.step, tilt_rad, dt, pose, slipped)
         self.level = self.steady = False  # (a coasting scan is taken as tilted)
         return dataclasses.replace(match, trusted=True)
 
@@ -362,12 +384,14 @@ class EgoMotion:
         coasted scan was matched with."""
         self.tilt = tilt_rad
 
-    def _carry(self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None) -> None:
+    def _carry(
+        self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None, slipped: bool
+    ) -> None:
         """Keep the reference and add ``step`` to the motion since it."""
         self.since_reference = self.since_reference.then(step)
         self.coasted_s += dt
         self.tilt = tilt_rad
-        self.pose = pose
+        self.pose, self.slipped = pose, slipped and pose is not None
 
     def commit(
         self,
@@ -378,10 +402,13 @@ class EgoMotion:
         dt: float,
         pose: np.ndarray | None,
         level: bool | None = None,
+        slipped: bool = False,
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
         beams (new, candidate lines) never take part in a match. ``level``: the scan
-        showed no floor line and no IMU tilt (None: its tilt is 0).
+        showed no floor line and no IMU tilt (None: its tilt is 0). ``pose``: the odometry
+        pose as given; ``slipped``: the wheels slipped in the step to it
+        (:attr:`slipped`).
 
         A scan with fewer than ``MIN_REFERENCE_POINTS`` points left once those are out
         (in a hall beyond the scanner's range, a pitched scan can be all floor and
@@ -401,7 +428,7 @@ class EgoMotion:
         self.level = level
         left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
         if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
-            self._carry(match.step, tilt_rad, dt, pose)
+            self._carry(match.step, tilt_rad, dt, pose, slipped)
             return
         if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
             # the match measured these points' ranges already (unstretched alike)
@@ -414,7 +441,7 @@ class EgoMotion:
         self.since_reference = STILL
         self.coasted_s = 0.0
         self.tilt = tilt_rad
-        self.pose = pose
+        self.pose, self.slipped = pose, slipped and pose is not None
 
 
 def fit_trusted(residual_m: float, ranges: np.ndarray, level: bool) -> bool:

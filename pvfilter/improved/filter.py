@@ -87,10 +87,11 @@ class _Prepared(NamedTuple):
         mid_points: its points in the mid-scan frame (deskewed with ``velocity``), m.
         velocity: the prior's motion per second.
         dt: the time since the previous scan, s.
-        pose: the odometry pose where its step from the previous scan's is one the robot
-            can make (None: no odometry, or its wheels slipped).
+        pose: the odometry pose, the prior's (None: no odometry, or the wheels slipped in
+            this step or the one before: :meth:`EgoMotion.plausible_pose`).
         wheel_pose: the odometry pose as given (None: no odometry): the next scan's step
             starts from it, slipped or not.
+        slipped: the odometry's step to this scan is one no robot of this class makes.
         attitude: the IMU's attitude (None: no IMU).
     """
 
@@ -106,6 +107,7 @@ class _Prepared(NamedTuple):
     dt: float
     pose: np.ndarray | None
     wheel_pose: np.ndarray | None
+    slipped: bool
     attitude: Attitude | None
 
 
@@ -227,7 +229,7 @@ class ImprovedPitchVariationFilter:
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
         odometry_prior = prepared.pose is not None and self._ego.pose is not None
-        outcome = self._match(prepared, prior, fresh, odometry_prior)
+        outcome, prepared = self._match(prepared, prior, fresh, odometry_prior)
         if not outcome.fresh:  # the view's doubt along what the match could not see
             wheels = odometry_prior and not outcome.wheels_slipped
             weak = SEEN if wheels else outcome.match.weak  # the wheels measure it
@@ -255,7 +257,10 @@ class ImprovedPitchVariationFilter:
         else:
             new_or_line = found.new | detection.candidates
             level = not _shows_tilt(detection.tilted, attitude)
-            self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level)
+            slipped = prepared.slipped or outcome.wheels_slipped
+            self._ego.commit(
+                prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level, slipped
+            )
         # remove: the beams whose claim score exceeds p_th become NaN
         return removal(detection)
 
@@ -311,15 +316,11 @@ class ImprovedPitchVariationFilter:
         directions[beams] = segments.directions
         # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
         # step no robot of this class can make is slip, and no prior)
+        slipped = not self._ego.plausible_step(pose, dt)
         wheel_pose, pose = pose, self._ego.plausible_pose(pose, dt)
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
-        mid_points = deskew(points, layout, scan.time_increment, velocity)
-        # the body moves with the sensor, and would pin the scan match to a robot standing
-        # still (in a corridor its walls say nothing of the drive along them). The match,
-        # its reference and the world-static test leave it out.
-        if np.count_nonzero(near):
-            mid_points[near] = np.nan
+        mid_points = _mid_scan(points, layout, scan.time_increment, velocity, near)
         prepared = _Prepared(
             scan,
             ranges,
@@ -333,6 +334,7 @@ class ImprovedPitchVariationFilter:
             dt,
             pose,
             wheel_pose,
+            slipped,
             attitude,
         )
         return prepared, prior
@@ -393,9 +395,9 @@ class ImprovedPitchVariationFilter:
         prior: tuple[Motion, tuple[float, float]],
         fresh: bool,
         wheels: bool,
-    ) -> _MatchOutcome:
+    ) -> tuple[_MatchOutcome, _Prepared]:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior.
+        prior; and the scan as the later stages take it.
 
         A match that cannot be trusted lets the prior carry on until a scan matches again
         in a pitch event (the last scan was tilted), and on wheel odometry that has proven
@@ -405,11 +407,12 @@ class ImprovedPitchVariationFilter:
         line), the filter re-baselines and the scan removes nothing. Otherwise an
         untrusted match re-baselines. ``wheels``: the prior is the wheel odometry's.
         A match that fails against the odometry is made again without it: where the
-        wheels slipped (a shove spins one), it carries the motion instead of them.
+        wheels slipped (a shove spins one), it carries the motion instead of them, and the
+        scan goes on as without odometry (deskewed with the velocity before).
         """
         if fresh:
             self._rebaseline()
-            return _AFRESH
+            return _AFRESH, prepared
         pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
         match = self._ego.match(
@@ -418,17 +421,18 @@ class ImprovedPitchVariationFilter:
             prepared.directions,
             dt,
             prior,
-            pose is not None,
+            wheels,
             imu_tilt,
             attitude is not None and attitude.tilted,
         )
         if match.trusted:
-            return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS)
-        if pose is not None:  # the match failed against the wheels: did they slip?
+            return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS), prepared
+        if wheels:  # the match failed against the wheels: did they slip?
+            without = self._without_wheels(prepared)
             alone = self._ego.match(
                 self._layout,
-                prepared.mid_points,
-                prepared.directions,
+                without.mid_points,
+                without.directions,
                 dt,
                 self._ego.prior(dt, None),
                 False,
@@ -437,18 +441,29 @@ class ImprovedPitchVariationFilter:
             )
             if self._ego.wheels_slipped(prior[0], prior[1], dt, alone):
                 seen = alone.weak[0] >= WEAK_ROWS
-                return _MatchOutcome(alone, travel_seen=seen, wheels_slipped=True)
+                return _MatchOutcome(alone, travel_seen=seen, wheels_slipped=True), without
         in_event = 0.0 < self._tilted_s <= self.params.max_event_s
         known = self._ego.reference is not None
         onset = self._tilted_s == 0.0 and known and pose is None
         proven = self._tilted_s == 0.0 and known and pose is not None and self._ego.odometry_proven
         if not (in_event or onset or proven):
             self._rebaseline()
-            return _AFRESH
+            return _AFRESH, prepared
         # the next step starts from the wheels' pose now, slipped or not: from None, the
         # next pose would pass unchecked, and a slip that lasts two scans would be taken in
-        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose)
-        return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels)
+        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, prepared.slipped)
+        return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels), prepared
+
+    def _without_wheels(self, prepared: _Prepared) -> _Prepared:
+        """``prepared`` as without odometry: no pose, and its points deskewed with the
+        velocity before (a slipped wheel's velocity, turning the sensor within the sweep,
+        bends the scan it deskews)."""
+        dt = prepared.dt
+        velocity = self._ego.prior(dt, None)[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
+        mid_points = _mid_scan(
+            prepared.points, self._layout, prepared.scan.time_increment, velocity, prepared.near
+        )
+        return prepared._replace(mid_points=mid_points, velocity=velocity, pose=None)
 
     def _remember(self, prepared: _Prepared, found: _Found, coast: bool) -> None:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
@@ -739,6 +754,24 @@ class ImprovedPitchVariationFilter:
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
         return False, dt if dt >= SAME_INSTANT_S else 0.0
+
+
+def _mid_scan(
+    points: np.ndarray,
+    layout: BeamLayout,
+    time_increment: float,
+    velocity: Motion,
+    near: np.ndarray,
+) -> np.ndarray:
+    """The scan's points in its mid-scan frame, deskewed with ``velocity`` (per second),
+    m; NaN where none, and on the ``near`` beams: the body moves with the sensor, and would
+    pin the scan match to a robot standing still (in a corridor its walls say nothing of
+    the drive along them). The match, its reference and the world-static test leave it
+    out."""
+    mid_points = deskew(points, layout, time_increment, velocity)
+    if np.count_nonzero(near):
+        mid_points[near] = np.nan
+    return mid_points
 
 
 def _shows_tilt(lines_tilted: bool, attitude: Attitude | None) -> bool:
