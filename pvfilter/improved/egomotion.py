@@ -130,8 +130,9 @@ class EgoMotion:
         self.coasted_s = 0.0  # time from the reference to the previous scan, s (coasting)
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
-        # the wheels slipped in the step to it: the step from it is no prior either (a
-        # wheel that spun may spin on, at a rate a robot can turn)
+        # the wheels slipped in the step to it, or before and have not run true since:
+        # the step from it is no prior either (a wheel that spun may spin on, at a rate a
+        # robot can turn)
         self.slipped = False
         self.tilt = 0.0  # the previous scan's tilt, rad
         self.level = False  # the previous scan was level (no floor line, no IMU tilt)
@@ -151,9 +152,10 @@ class EgoMotion:
 
     def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
         """``pose``, or None where the wheels slipped: in the step to it
-        (:meth:`plausible_step`), or in the step before (:attr:`slipped`). The scan is
-        matched as without odometry then. The next step starts from ``pose`` all the
-        same (:meth:`commit` and :meth:`coast` keep the pose as given)."""
+        (:meth:`plausible_step`), or before, and have not run true since
+        (:attr:`slipped`, :meth:`still_slipping`). The scan is matched as without odometry
+        then. The next step starts from ``pose`` all the same (:meth:`commit` and
+        :meth:`coast` keep the pose as given)."""
         if self.slipped or not self.plausible_step(pose, dt):
             return None
         return pose
@@ -281,6 +283,16 @@ class EgoMotion:
             off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
             and off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
         )
+
+    def still_slipping(self, pose: np.ndarray | None, dt: float, match: Match) -> bool:
+        """The wheels slipped before (:attr:`slipped`), and their step to ``pose`` has not
+        run true since: ``match``, made without them, is not trusted, or its step lies
+        beyond the odometry's spread of theirs. A wheel a shove spun can spin on for
+        several scans at a rate a robot can turn."""
+        if not self.slipped or pose is None:
+            return False
+        wheels, spread = self.prior(dt, pose)
+        return not (match.trusted and self._within_odometry_spread(match.step, wheels, spread))
 
     def wheels_slipped(
         self, wheel_step: Motion, spread: tuple[float, float], dt: float, alone: Match

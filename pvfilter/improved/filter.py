@@ -87,8 +87,8 @@ class _Prepared(NamedTuple):
         mid_points: its points in the mid-scan frame (deskewed with ``velocity``), m.
         velocity: the prior's motion per second.
         dt: the time since the previous scan, s.
-        pose: the odometry pose, the prior's (None: no odometry, or the wheels slipped in
-            this step or the one before: :meth:`EgoMotion.plausible_pose`).
+        pose: the odometry pose, the prior's (None: no odometry, no pose at the scan
+            before, or the wheels slipped: :meth:`EgoMotion.plausible_pose`).
         wheel_pose: the odometry pose as given (None: no odometry): the next scan's step
             starts from it, slipped or not.
         slipped: the odometry's step to this scan is one no robot of this class makes.
@@ -126,6 +126,9 @@ class _MatchOutcome:
         wheels_slipped: the odometry's step disagreed with both the match made without
             it and the velocity before; the match carries the motion
             (:meth:`~pvfilter.improved.egomotion.EgoMotion.wheels_slipped`).
+        wheels: the wheel odometry measured the motion since the reference, every
+            coasted step included (a step without a pose, or before the first, was a
+            guess).
     """
 
     match: Match
@@ -134,6 +137,7 @@ class _MatchOutcome:
     onset: bool = False
     travel_seen: bool = True
     wheels_slipped: bool = False
+    wheels: bool = False
 
 
 _AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
@@ -175,6 +179,8 @@ class ImprovedPitchVariationFilter:
         self._body = BodyBeams()
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
+        self._wheels_throughout = True  # the wheels measured every step coasted since the
+        # last matched scan
         self._new_sequence = True
 
     @property
@@ -228,11 +234,10 @@ class ImprovedPitchVariationFilter:
         fresh, dt = self._start(scan)
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
-        odometry_prior = prepared.pose is not None and self._ego.pose is not None
+        odometry_prior = prepared.pose is not None  # the prior is the wheels' step
         outcome, prepared = self._match(prepared, prior, fresh, odometry_prior)
         if not outcome.fresh:  # the view's doubt along what the match could not see
-            wheels = odometry_prior and not outcome.wheels_slipped
-            weak = SEEN if wheels else outcome.match.weak  # the wheels measure it
+            weak = SEEN if outcome.wheels else outcome.match.weak  # the wheels measure it
             span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
             self._doubt.carry(outcome.match.step.theta_rad, weak, span_s)
         found = self._detect(prepared, outcome)
@@ -245,7 +250,7 @@ class ImprovedPitchVariationFilter:
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            guessed = outcome.fresh or (outcome.coast and prepared.pose is None)  # no view to trust
+            guessed = outcome.fresh or (outcome.coast and not outcome.wheels)  # no view to trust
             confident = None if guessed else line_pitch(detection.segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted, scores.scan_down_side)
         self._learn_roll(detection, outcome)
@@ -255,9 +260,14 @@ class ImprovedPitchVariationFilter:
         if outcome.coast:
             self._ego.coasted_tilt(tilt)
         else:
+            self._wheels_throughout = True  # (nothing coasted since this scan)
             new_or_line = found.new | detection.candidates
             level = not _shows_tilt(detection.tilted, attitude)
-            slipped = prepared.slipped or outcome.wheels_slipped
+            slipped = (
+                prepared.slipped
+                or outcome.wheels_slipped
+                or self._ego.still_slipping(prepared.wheel_pose, dt, outcome.match)
+            )
             self._ego.commit(
                 prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level, slipped
             )
@@ -317,7 +327,8 @@ class ImprovedPitchVariationFilter:
         # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
         # step no robot of this class can make is slip, and no prior)
         slipped = not self._ego.plausible_step(pose, dt)
-        wheel_pose, pose = pose, self._ego.plausible_pose(pose, dt)
+        wheel_pose = pose  # (odometry that starts in a sequence gives no step at first)
+        pose = self._ego.plausible_pose(pose, dt) if self._ego.pose is not None else None
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = _mid_scan(points, layout, scan.time_increment, velocity, near)
@@ -341,12 +352,12 @@ class ImprovedPitchVariationFilter:
 
     def _detect(self, prepared: _Prepared, outcome: _MatchOutcome) -> _Found:
         """Compare the scan with the level view and detect its lines."""
-        scan, pose, attitude = prepared.scan, prepared.pose, prepared.attitude
+        scan, attitude = prepared.scan, prepared.attitude
         match = outcome.match
         # coasting on a constant velocity, the motion is a guess, off by as much as the
         # robot can drive in the time coasted: the scan is compared with the view within
         # that doubt; on the wheel odometry it is a measurement within its spread
-        blind = outcome.coast and pose is None
+        blind = outcome.coast and not outcome.wheels
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
         level_ranges = match.ranges
@@ -355,7 +366,7 @@ class ImprovedPitchVariationFilter:
         # travel the scans may not have seen can leave the view off along x beyond the
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
-        unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
+        unseen_travel = not outcome.wheels and not (attitude is not None and attitude.tilted)
         new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
@@ -426,7 +437,9 @@ class ImprovedPitchVariationFilter:
             attitude is not None and attitude.tilted,
         )
         if match.trusted:
-            return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS), prepared
+            seen = wheels or match.weak[0] >= WEAK_ROWS
+            measured = wheels and self._wheels_throughout
+            return _MatchOutcome(match, travel_seen=seen, wheels=measured), prepared
         if wheels:  # the match failed against the wheels: did they slip?
             without = self._without_wheels(prepared)
             alone = self._ego.match(
@@ -451,8 +464,14 @@ class ImprovedPitchVariationFilter:
             return _AFRESH, prepared
         # the next step starts from the wheels' pose now, slipped or not: from None, the
         # next pose would pass unchecked, and a slip that lasts two scans would be taken in
-        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, prepared.slipped)
-        return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels), prepared
+        slipped = prepared.slipped or self._ego.slipped  # (no trusted match: still slipping)
+        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, slipped)
+        measured = wheels and self._wheels_throughout
+        self._wheels_throughout = measured
+        outcome = _MatchOutcome(
+            coasted, coast=True, onset=onset, travel_seen=wheels, wheels=measured
+        )
+        return outcome, prepared
 
     def _without_wheels(self, prepared: _Prepared) -> _Prepared:
         """``prepared`` as without odometry: no pose, and its points deskewed with the
@@ -711,6 +730,7 @@ class ImprovedPitchVariationFilter:
         self._follower.reset()
         self._doubt.reset()
         self._tilted_s = 0.0
+        self._wheels_throughout = True
 
     def _level(self, tilted: bool, dt: float, travelling: bool = False) -> bool:
         """The scan plane was level: no strong candidate line, and the IMU (if any) agrees.
