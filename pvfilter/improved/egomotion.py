@@ -14,7 +14,10 @@ level view drifts, and when the robot levels the real wall in front looks new. S
   ``1 - cos(tilt)``, which the match reads as travel;
 - the **prior** is the wheel odometry's step when the robot gives its pose (with a
   spread that grows with the step: the wheels slip on hard stops; a step faster than the
-  robot can turn or drive is slip, not motion: :meth:`EgoMotion.plausible_pose`), else
+  robot can turn or drive is slip, not motion, and so is the step after it:
+  :meth:`EgoMotion.plausible_pose`; a match that fails against the odometry while the
+  match without it and the velocity before agree is taken as the wheels' slip:
+  :meth:`EgoMotion.wheels_slipped`), else
   the last step at constant velocity; where that finds no pairs of points (a velocity
   from a bad match in a pitch event puts every wall farther off than ``association_m``,
   and a coasting filter would carry it for ``max_event_s``), the match is tried once
@@ -127,23 +130,35 @@ class EgoMotion:
         self.coasted_s = 0.0  # time from the reference to the previous scan, s (coasting)
         self.velocity = Motion()  # the last step, per second
         self.pose: np.ndarray | None = None  # the odometry pose at the previous scan
+        # the wheels slipped in the step to it, or before and have not run true since:
+        # the step from it is no prior either (a wheel that spun may spin on, at a rate a
+        # robot can turn)
+        self.slipped = False
         self.tilt = 0.0  # the previous scan's tilt, rad
         self.level = False  # the previous scan was level (no floor line, no IMU tilt)
         self.steady = False  # the velocity was measured between two level scans in a row
 
-    def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
-        """``pose``, or None where the odometry's step to it from the previous scan's turns
-        or drives faster than a robot of this class can (``max_yaw_rate_rad_s``,
-        ``MAX_SPEED_MPS``, as a match is judged): its wheels slipped, as a shove can spin
-        them, and the odometry then reads a turn of a radian in a tenth of a second. The
-        scan is matched as without odometry then, and the next step starts from the next
-        pose."""
+    def plausible_step(self, pose: np.ndarray | None, dt: float) -> bool:
+        """The odometry's step to ``pose`` from the previous scan's turns and drives no
+        faster than a robot of this class can (``max_yaw_rate_rad_s``, ``MAX_SPEED_MPS``,
+        as a match is judged); True where there is no step to judge. A shove can spin a
+        wheel, and the odometry then reads a turn of a radian in a tenth of a second."""
         if pose is None or self.pose is None or dt <= 0.0:
-            return pose
+            return True
         step = odometry_motion(self.pose, pose)
         turn_ok = abs(step.theta_rad) <= self.params.max_yaw_rate_rad_s * dt + math.radians(2.0)
         drive_ok = step.translation_m <= MAX_SPEED_MPS * dt + self.params.association_m
-        return pose if turn_ok and drive_ok else None
+        return turn_ok and drive_ok
+
+    def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
+        """``pose``, or None where the wheels slipped: in the step to it
+        (:meth:`plausible_step`), or before, and have not run true since
+        (:attr:`slipped`, :meth:`still_slipping`). The scan is matched as without odometry
+        then. The next step starts from ``pose`` all the same (:meth:`commit` and
+        :meth:`coast` keep the pose as given)."""
+        if self.slipped or not self.plausible_step(pose, dt):
+            return None
+        return pose
 
     def prior(self, dt: float, pose: np.ndarray | None) -> tuple[Motion, tuple[float, float]]:
         """The step expected from the previous scan to this one, and its spread (rad, m)."""
@@ -249,15 +264,56 @@ class EgoMotion:
         )
         trusted &= found.translation_m <= MAX_SPEED_MPS * since_s + self.params.association_m
         if odometry:
-            off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
-            off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
-            trusted &= off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
-            trusted &= off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+            trusted &= self._within_odometry_spread(found, expected, spread)
             if trusted and self.coasted_s == 0.0:
+                off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
                 self._odometry_agrees(off_turn / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
+
+    def _within_odometry_spread(
+        self, found: Motion, expected: Motion, spread: tuple[float, float]
+    ) -> bool:
+        """``found`` lies within ``ODOM_SIGMAS`` of the odometry's ``spread`` (rad, m) of
+        ``expected``, with the match's own uncertainty (2 degrees, half ``association_m``)."""
+        off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
+        off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
+        return (
+            off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
+            and off_shift <= ODOM_SIGMAS * spread[1] + 0.5 * self.params.association_m
+        )
+
+    def still_slipping(self, pose: np.ndarray | None, dt: float, match: Match) -> bool:
+        """The wheels slipped before (:attr:`slipped`), and their step to ``pose`` has not
+        run true since: ``match``, made without them, is not trusted, or its step lies
+        beyond the odometry's spread of theirs. A wheel a shove spun can spin on for
+        several scans at a rate a robot can turn."""
+        if not self.slipped or pose is None:
+            return False
+        wheels, spread = self.prior(dt, pose)
+        return not (match.trusted and self._within_odometry_spread(match.step, wheels, spread))
+
+    def wheels_slipped(
+        self, wheel_step: Motion, spread: tuple[float, float], dt: float, alone: Match
+    ) -> bool:
+        """The wheels slipped, and the scans measured the step: two witnesses against one.
+
+        Where a match fails against the odometry, either the match is wrong (floor lines
+        pull it) or the wheels are (a shove spins one, and the odometry turns the wrong
+        way). The velocity measured between the last two level scans is a third witness
+        where it is fresh (``steady``, no coasting since): if the match made without the
+        wheels (``alone``, trusted) lies within the odometry's spread of the constant
+        velocity, and the wheels' step ``wheel_step`` does not, the wheels are the odd
+        one out. A hard stop or a spin moves the wheels off a stale velocity too; the
+        velocity is only a witness while fresh.
+        """
+        if not (alone.trusted and self.steady and self.coasted_s == 0.0):
+            return False
+        constant = self.velocity.scaled(dt)
+        return self._within_odometry_spread(
+            alone.step, constant, spread
+        ) and not self._within_odometry_spread(wheel_step, constant, spread)
 
     def _within_steady_doubt(self, found: Motion, expected: Motion, since_s: float) -> Motion:
         """``found`` with its drive off the constant-velocity prior by no more than the
@@ -310,7 +366,14 @@ class EgoMotion:
         whose wheels slide in every turn, is not."""
         return self.odometry_disagreement <= 1.0
 
-    def coast(self, match: Match, tilt_rad: float, dt: float, pose: np.ndarray | None) -> Match:
+    def coast(
+        self,
+        match: Match,
+        tilt_rad: float,
+        dt: float,
+        pose: np.ndarray | None,
+        slipped: bool = False,
+    ) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
         stays the reference, and the motion since is what the prior expected.
 
@@ -318,10 +381,12 @@ class EgoMotion:
             match: the failed match (its step: the prior's).
             tilt_rad: the scan's tilt, rad.
             dt: the time since the previous scan, s.
-            pose: the odometry pose now (None: no odometry); the next prior is the odometry's step
-                from here, as the coasted motion already holds the steps up to here.
+            pose: the odometry pose now, as given (None: no odometry); the next prior is the
+                odometry's step from here, as the coasted motion already holds the steps up
+                to here.
+            slipped: the wheels slipped in the step to ``pose`` (:attr:`slipped`).
         """
-        self._carry(match.step, tilt_rad, dt, pose)
+        self._carry(match.step, tilt_rad, dt, pose, slipped)
         self.level = self.steady = False  # (a coasting scan is taken as tilted)
         return dataclasses.replace(match, trusted=True)
 
@@ -331,12 +396,14 @@ class EgoMotion:
         coasted scan was matched with."""
         self.tilt = tilt_rad
 
-    def _carry(self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None) -> None:
+    def _carry(
+        self, step: Motion, tilt_rad: float, dt: float, pose: np.ndarray | None, slipped: bool
+    ) -> None:
         """Keep the reference and add ``step`` to the motion since it."""
         self.since_reference = self.since_reference.then(step)
         self.coasted_s += dt
         self.tilt = tilt_rad
-        self.pose = pose
+        self.pose, self.slipped = pose, slipped and pose is not None
 
     def commit(
         self,
@@ -347,10 +414,13 @@ class EgoMotion:
         dt: float,
         pose: np.ndarray | None,
         level: bool | None = None,
+        slipped: bool = False,
     ) -> None:
         """Take the scan in as the next reference, unstretched by its tilt (rad); ``moving``
         beams (new, candidate lines) never take part in a match. ``level``: the scan
-        showed no floor line and no IMU tilt (None: its tilt is 0).
+        showed no floor line and no IMU tilt (None: its tilt is 0). ``pose``: the odometry
+        pose as given; ``slipped``: the wheels slipped in the step to it
+        (:attr:`slipped`).
 
         A scan with fewer than ``MIN_REFERENCE_POINTS`` points left once those are out
         (in a hall beyond the scanner's range, a pitched scan can be all floor and
@@ -370,7 +440,7 @@ class EgoMotion:
         self.level = level
         left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
         if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
-            self._carry(match.step, tilt_rad, dt, pose)
+            self._carry(match.step, tilt_rad, dt, pose, slipped)
             return
         if match.ranges is not None and _same_stretch(tilt_rad, match.tilt_rad):
             # the match measured these points' ranges already (unstretched alike)
@@ -383,7 +453,7 @@ class EgoMotion:
         self.since_reference = STILL
         self.coasted_s = 0.0
         self.tilt = tilt_rad
-        self.pose = pose
+        self.pose, self.slipped = pose, slipped and pose is not None
 
 
 def fit_trusted(residual_m: float, ranges: np.ndarray, level: bool) -> bool:

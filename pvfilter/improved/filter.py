@@ -87,7 +87,11 @@ class _Prepared(NamedTuple):
         mid_points: its points in the mid-scan frame (deskewed with ``velocity``), m.
         velocity: the prior's motion per second.
         dt: the time since the previous scan, s.
-        pose: the odometry pose (None: no odometry).
+        pose: the odometry pose, the prior's (None: no odometry, no pose at the scan
+            before, or the wheels slipped: :meth:`EgoMotion.plausible_pose`).
+        wheel_pose: the odometry pose as given (None: no odometry): the next scan's step
+            starts from it, slipped or not.
+        slipped: the odometry's step to this scan is one no robot of this class makes.
         attitude: the IMU's attitude (None: no IMU).
     """
 
@@ -102,6 +106,8 @@ class _Prepared(NamedTuple):
     velocity: Motion
     dt: float
     pose: np.ndarray | None
+    wheel_pose: np.ndarray | None
+    slipped: bool
     attitude: Attitude | None
 
 
@@ -117,6 +123,12 @@ class _MatchOutcome:
             shows a pitch event (a strong candidate line), else the filter re-baselines.
         travel_seen: the step's drive was measured in every direction: by the wheels, or
             by a trusted match with support along all of them (not a guess coasted on).
+        wheels_slipped: the odometry's step disagreed with both the match made without
+            it and the velocity before; the match carries the motion
+            (:meth:`~pvfilter.improved.egomotion.EgoMotion.wheels_slipped`).
+        wheels: the wheel odometry measured the motion since the reference, every
+            coasted step included (a step without a pose, or before the first, was a
+            guess).
     """
 
     match: Match
@@ -124,6 +136,8 @@ class _MatchOutcome:
     coast: bool = False
     onset: bool = False
     travel_seen: bool = True
+    wheels_slipped: bool = False
+    wheels: bool = False
 
 
 _AFRESH = _MatchOutcome(Match(Motion(), True), fresh=True)
@@ -165,6 +179,8 @@ class ImprovedPitchVariationFilter:
         self._body = BodyBeams()
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
+        self._wheels_throughout = True  # the wheels measured every step coasted since the
+        # last matched scan
         self._new_sequence = True
 
     @property
@@ -218,10 +234,10 @@ class ImprovedPitchVariationFilter:
         fresh, dt = self._start(scan)
         attitude = self._attitude.update(checked, scan.stamp)
         prepared, prior = self._prepare(scan, dt, pose, attitude)
-        odometry_prior = prepared.pose is not None and self._ego.pose is not None
-        outcome = self._match(prepared, prior, fresh, odometry_prior)
+        odometry_prior = prepared.pose is not None  # the prior is the wheels' step
+        outcome, prepared = self._match(prepared, prior, fresh, odometry_prior)
         if not outcome.fresh:  # the view's doubt along what the match could not see
-            weak = SEEN if odometry_prior else outcome.match.weak  # the wheels measure it
+            weak = SEEN if outcome.wheels else outcome.match.weak  # the wheels measure it
             span_s = prepared.dt + (0.0 if outcome.coast else self._ego.coasted_s)
             self._doubt.carry(outcome.match.step.theta_rad, weak, span_s)
         found = self._detect(prepared, outcome)
@@ -234,7 +250,7 @@ class ImprovedPitchVariationFilter:
         # check the IMU's estimate against the scan's confident floor line, if any
         if attitude is not None:
             scores = detection.segment_scores
-            guessed = outcome.fresh or (outcome.coast and pose is None)  # no view to trust
+            guessed = outcome.fresh or (outcome.coast and not outcome.wheels)  # no view to trust
             confident = None if guessed else line_pitch(detection.segments, scores, line_params)
             self._attitude.check(confident, scores.imu_contradicted, scores.scan_down_side)
         self._learn_roll(detection, outcome)
@@ -244,9 +260,17 @@ class ImprovedPitchVariationFilter:
         if outcome.coast:
             self._ego.coasted_tilt(tilt)
         else:
+            self._wheels_throughout = True  # (nothing coasted since this scan)
             new_or_line = found.new | detection.candidates
             level = not _shows_tilt(detection.tilted, attitude)
-            self._ego.commit(prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level)
+            slipped = (
+                prepared.slipped
+                or outcome.wheels_slipped
+                or self._ego.still_slipping(prepared.wheel_pose, dt, outcome.match)
+            )
+            self._ego.commit(
+                prepared.mid_points, new_or_line, outcome.match, tilt, dt, pose, level, slipped
+            )
         # remove: the beams whose claim score exceeds p_th become NaN
         return removal(detection)
 
@@ -302,15 +326,12 @@ class ImprovedPitchVariationFilter:
         directions[beams] = segments.directions
         # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
         # step no robot of this class can make is slip, and no prior)
-        pose = self._ego.plausible_pose(pose, dt)
+        slipped = not self._ego.plausible_step(pose, dt)
+        wheel_pose = pose  # (odometry that starts in a sequence gives no step at first)
+        pose = self._ego.plausible_pose(pose, dt) if self._ego.pose is not None else None
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
-        mid_points = deskew(points, layout, scan.time_increment, velocity)
-        # the body moves with the sensor, and would pin the scan match to a robot standing
-        # still (in a corridor its walls say nothing of the drive along them). The match,
-        # its reference and the world-static test leave it out.
-        if np.count_nonzero(near):
-            mid_points[near] = np.nan
+        mid_points = _mid_scan(points, layout, scan.time_increment, velocity, near)
         prepared = _Prepared(
             scan,
             ranges,
@@ -323,18 +344,20 @@ class ImprovedPitchVariationFilter:
             velocity,
             dt,
             pose,
+            wheel_pose,
+            slipped,
             attitude,
         )
         return prepared, prior
 
     def _detect(self, prepared: _Prepared, outcome: _MatchOutcome) -> _Found:
         """Compare the scan with the level view and detect its lines."""
-        scan, pose, attitude = prepared.scan, prepared.pose, prepared.attitude
+        scan, attitude = prepared.scan, prepared.attitude
         match = outcome.match
         # coasting on a constant velocity, the motion is a guess, off by as much as the
         # robot can drive in the time coasted: the scan is compared with the view within
         # that doubt; on the wheel odometry it is a measurement within its spread
-        blind = outcome.coast and pose is None
+        blind = outcome.coast and not outcome.wheels
         # evidence: returns in front of the level view, and returns that stayed put in
         # the world while the sensor moved
         level_ranges = match.ranges
@@ -343,7 +366,7 @@ class ImprovedPitchVariationFilter:
         # travel the scans may not have seen can leave the view off along x beyond the
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)
-        unseen_travel = pose is None and not (attitude is not None and attitude.tilted)
+        unseen_travel = not outcome.wheels and not (attitude is not None and attitude.tilted)
         new, through, view, static, back = self._evidence(
             scan,
             prepared.ranges,
@@ -383,9 +406,9 @@ class ImprovedPitchVariationFilter:
         prior: tuple[Motion, tuple[float, float]],
         fresh: bool,
         wheels: bool,
-    ) -> _MatchOutcome:
+    ) -> tuple[_MatchOutcome, _Prepared]:
         """The scan's ego-motion, and whether the filter starts afresh or coasts on the
-        prior.
+        prior; and the scan as the later stages take it.
 
         A match that cannot be trusted lets the prior carry on until a scan matches again
         in a pitch event (the last scan was tilted), and on wheel odometry that has proven
@@ -394,10 +417,13 @@ class ImprovedPitchVariationFilter:
         too, as an **onset**: if it shows no pitch event after all (no strong candidate
         line), the filter re-baselines and the scan removes nothing. Otherwise an
         untrusted match re-baselines. ``wheels``: the prior is the wheel odometry's.
+        A match that fails against the odometry is made again without it: where the
+        wheels slipped (a shove spins one), it carries the motion instead of them, and the
+        scan goes on as without odometry (deskewed with the velocity before).
         """
         if fresh:
             self._rebaseline()
-            return _AFRESH
+            return _AFRESH, prepared
         pose, attitude, dt = prepared.pose, prepared.attitude, prepared.dt
         imu_tilt = None if attitude is None else attitude.tilt_rad
         match = self._ego.match(
@@ -406,21 +432,57 @@ class ImprovedPitchVariationFilter:
             prepared.directions,
             dt,
             prior,
-            pose is not None,
+            wheels,
             imu_tilt,
             attitude is not None and attitude.tilted,
         )
         if match.trusted:
-            return _MatchOutcome(match, travel_seen=wheels or match.weak[0] >= WEAK_ROWS)
+            seen = wheels or match.weak[0] >= WEAK_ROWS
+            measured = wheels and self._wheels_throughout
+            return _MatchOutcome(match, travel_seen=seen, wheels=measured), prepared
+        if wheels:  # the match failed against the wheels: did they slip?
+            without = self._without_wheels(prepared)
+            alone = self._ego.match(
+                self._layout,
+                without.mid_points,
+                without.directions,
+                dt,
+                self._ego.prior(dt, None),
+                False,
+                imu_tilt,
+                attitude is not None and attitude.tilted,
+            )
+            if self._ego.wheels_slipped(prior[0], prior[1], dt, alone):
+                seen = alone.weak[0] >= WEAK_ROWS
+                return _MatchOutcome(alone, travel_seen=seen, wheels_slipped=True), without
         in_event = 0.0 < self._tilted_s <= self.params.max_event_s
         known = self._ego.reference is not None
         onset = self._tilted_s == 0.0 and known and pose is None
         proven = self._tilted_s == 0.0 and known and pose is not None and self._ego.odometry_proven
         if not (in_event or onset or proven):
             self._rebaseline()
-            return _AFRESH
-        coasted = self._ego.coast(match, match.tilt_rad, dt, pose)
-        return _MatchOutcome(coasted, coast=True, onset=onset, travel_seen=wheels)
+            return _AFRESH, prepared
+        # the next step starts from the wheels' pose now, slipped or not: from None, the
+        # next pose would pass unchecked, and a slip that lasts two scans would be taken in
+        slipped = prepared.slipped or self._ego.slipped  # (no trusted match: still slipping)
+        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, slipped)
+        measured = wheels and self._wheels_throughout
+        self._wheels_throughout = measured
+        outcome = _MatchOutcome(
+            coasted, coast=True, onset=onset, travel_seen=wheels, wheels=measured
+        )
+        return outcome, prepared
+
+    def _without_wheels(self, prepared: _Prepared) -> _Prepared:
+        """``prepared`` as without odometry: no pose, and its points deskewed with the
+        velocity before (a slipped wheel's velocity, turning the sensor within the sweep,
+        bends the scan it deskews)."""
+        dt = prepared.dt
+        velocity = self._ego.prior(dt, None)[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
+        mid_points = _mid_scan(
+            prepared.points, self._layout, prepared.scan.time_increment, velocity, prepared.near
+        )
+        return prepared._replace(mid_points=mid_points, velocity=velocity, pose=None)
 
     def _remember(self, prepared: _Prepared, found: _Found, coast: bool) -> None:
         """Teach the level view (from level scans only: a coasting scan is taken as tilted)
@@ -668,6 +730,7 @@ class ImprovedPitchVariationFilter:
         self._follower.reset()
         self._doubt.reset()
         self._tilted_s = 0.0
+        self._wheels_throughout = True
 
     def _level(self, tilted: bool, dt: float, travelling: bool = False) -> bool:
         """The scan plane was level: no strong candidate line, and the IMU (if any) agrees.
@@ -711,6 +774,24 @@ class ImprovedPitchVariationFilter:
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
         return False, dt if dt >= SAME_INSTANT_S else 0.0
+
+
+def _mid_scan(
+    points: np.ndarray,
+    layout: BeamLayout,
+    time_increment: float,
+    velocity: Motion,
+    near: np.ndarray,
+) -> np.ndarray:
+    """The scan's points in its mid-scan frame, deskewed with ``velocity`` (per second),
+    m; NaN where none, and on the ``near`` beams: the body moves with the sensor, and would
+    pin the scan match to a robot standing still (in a corridor its walls say nothing of
+    the drive along them). The match, its reference and the world-static test leave it
+    out."""
+    mid_points = deskew(points, layout, time_increment, velocity)
+    if np.count_nonzero(near):
+        mid_points[near] = np.nan
+    return mid_points
 
 
 def _shows_tilt(lines_tilted: bool, attitude: Attitude | None) -> bool:

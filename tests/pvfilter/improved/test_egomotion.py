@@ -99,6 +99,42 @@ def test_an_odometry_step_no_robot_can_make_is_slip_and_no_prior():
     assert not found.trusted
 
 
+@pytest.mark.parametrize(
+    ("velocity", "scans_turn", "wheels_turn", "slipped"),
+    [("fresh", 0.0, 0.22, True), ("fresh", 0.22, 0.22, False), ("fresh", 0.22, 0.0, False),
+     ("coasted since", 0.0, 0.22, False), ("not between level scans", 0.0, 0.22, False)],
+)  # fmt: skip
+def test_wheels_slipped_when_both_other_witnesses_disagree_with_them(
+    velocity, scans_turn, wheels_turn, slipped
+):
+    # driving straight at 0.5 m/s (the velocity measured between two level scans); a
+    # match without the wheels and the wheels' step, each turning or not in one step. A
+    # velocity carried over a coasted event, or measured on a tilted scan, is no witness
+    # (a hard stop or a spin moves the wheels off it rightly)
+    ego = EgoMotion(PARAMS)
+    ego.velocity, ego.steady = Motion(0.0, -0.5, 0.0), velocity != "not between level scans"
+    ego.coasted_s = 0.3 if velocity == "coasted since" else 0.0
+    ego.pose = np.zeros(3)
+    wheels, spread = ego.prior(DT, np.array([0.05, 0.0, wheels_turn]))
+    alone = egomotion.Match(Motion(scans_turn, -0.05, 0.0), True)
+    assert ego.wheels_slipped(wheels, spread, DT, alone) is slipped
+    assert not ego.wheels_slipped(wheels, spread, DT, egomotion.Match(alone.step, False))
+
+
+def test_the_step_after_a_slip_is_no_prior_and_starts_from_the_slipped_pose():
+    # a wheel spun in the step to the pose kept (1 rad in 0.1 s): the next step, from that
+    # pose, is one a robot can make (0.2 rad), but the wheel may still be spinning: no
+    # prior. A slip no robot makes is judged from the slipped pose too; the step after a
+    # plausible one is the wheels' word again
+    ego, _, _, _ = started(room_segments(3.0, 3.0, 2.0, 2.0))
+    ego.coast(egomotion.Match(Motion(), False), 0.0, DT, np.array([0.05, 0.0, 1.0]), True)
+    assert ego.plausible_step(np.array([0.10, 0.0, 1.2]), DT)
+    assert ego.plausible_pose(np.array([0.10, 0.0, 1.2]), DT) is None
+    assert not ego.plausible_step(np.array([0.10, 0.0, 2.0]), DT)
+    ego.coast(egomotion.Match(Motion(), False), 0.0, DT, np.array([0.10, 0.0, 1.2]), False)
+    assert ego.plausible_pose(np.array([0.15, 0.0, 1.2]), DT) is not None
+
+
 def test_a_match_far_from_the_odometry_or_without_pairs_is_not_trusted():
     room = room_segments(3.0, 3.0, 2.0, 2.0)
     before, _ = tilted_scan(walls=room)
@@ -144,7 +180,7 @@ def test_coasting_on_the_odometry_takes_each_step_once():
 
 def test_a_turn_that_carried_on_while_coasting_is_found_against_the_old_reference():
     # 0.3 s of coasting through a 1.9 rad/s turn: 33 deg since the reference, beyond what
-    # one scan time allows (14 deg at max_yaw_rate_rad_s); the prior missed the turn
+    # one scan time allows (23 deg at max_yaw_rate_rad_s); the prior missed the turn
     room = room_segments(3.0, 2.5, 2.0, 1.5)
     ego, layout, points, segments = started(room)
     for _ in range(2):

@@ -284,21 +284,71 @@ def test_the_odometry_carries_the_motion_where_the_walls_do_not_show_it():
         assert result.removed[~floor].sum() <= 3  # those corners
 
 
-def test_a_shove_that_spins_a_wheel_does_not_carry_the_filter_away():
+@pytest.mark.parametrize(
+    ("slip_rad", "time_increment"), [(1.0, 0.0), (0.22, 0.0), (0.22, 0.1 / 720)]
+)
+def test_a_shove_that_spins_a_wheel_does_not_carry_the_filter_away(slip_rad, time_increment):
     # driving level through the room at 0.5 m/s; at scan 8 a shove spins one wheel and the
-    # odometry reads a turn of a radian in that step (it keeps the heading error after).
-    # A robot of this class cannot turn so: the step is slip, and the scans match on
+    # odometry reads a turn of slip_rad in that step (it keeps the heading error after).
+    # - 1 rad: a robot of this class cannot turn so; the step is slip, and the scans
+    #   match on;
+    # - 0.22 rad: a turn it can make (2.2 rad/s), but beyond the odometry's spread of what
+    #   the scans matched. The velocity measured over the level scans before agrees with
+    #   the scans: the wheels are the odd one out, and the scans carry the step (the old
+    #   code coasted on the wheels' turn). With the sweep's timing, the scan matched so is
+    #   deskewed with that velocity, not the slipped one (which bent it by 0.03 rad)
     x = [0.05 * k for k in range(16)]
     params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
     pvf = ImprovedPitchVariationFilter(params)
     for k in range(16):
         scan, _ = tilted_scan((x[k] - 1.0, 0.0, 0.0), 0.0, stamp=0.1 * k)
-        yaw = 1.0 if k >= 8 else 0.0
+        scan = dataclasses.replace(scan, time_increment=time_increment)
+        yaw = slip_rad if k >= 8 else 0.0
         result = pvf.process(scan, pose_sensor_in_odom=(x[k], 0.0, yaw))
         if k:
             assert not result.lines.coasted and not result.lines.new_sequence, k
             assert result.lines.motion.theta_rad == pytest.approx(0.0, abs=0.01), k
         assert not result.removed.any(), k
+
+
+@pytest.mark.parametrize("odometry", [True, False])
+def test_a_robot_spinning_in_place_at_3_rad_s_keeps_its_level_view(odometry):
+    # a balancing robot spins in place as fast as 3 rad/s (0.45 m/s at its wheels on a
+    # 0.3 m track; robots of independent sequences do): a turn of 0.3 rad a scan at 10 Hz
+    # is motion, not slip, and within the match's search (the old bound, 2.5 rad/s, took
+    # the wheels' steps for slip and left the scans unmatched)
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(20):
+        yaw = 0.3 * max(k - 4, 0)
+        scan, _ = tilted_scan((0.5, 0.3, yaw), 0.0, stamp=0.1 * k)
+        result = pvf.process(scan, pose_sensor_in_odom=(0.5, 0.3, yaw) if odometry else None)
+        if k:
+            assert not result.lines.coasted and not result.lines.new_sequence, k
+        assert not result.removed.any(), k
+
+
+@pytest.mark.parametrize(("then_rad", "steps"), [(0.22, 1), (1.0, 1), (0.22, 4)])
+def test_a_wheel_that_spins_on_after_a_slip_carries_nothing(then_rad, steps):
+    # a shove spins a wheel as the robot pitches: the odometry reads a radian of turn in
+    # the step to scan 8, which shows only its floor line and coasts, and then_rad more in
+    # each of the next steps (a turn a robot can make, or not), then none. None of those
+    # steps is the motion: the filter matches again from scan 10 and removes no wall
+    # (taking a 0.22 rad step as the wheels' word, it coasted on it for the whole event
+    # and then removed 120 wall beams a scan)
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    for k in range(18):
+        x_m = 0.05 * k - 1.0
+        pitch_rad = math.radians(10.0 if k == 8 else 0.0)
+        scan, hit = tilted_scan((x_m, 0.0, 0.0), pitch_rad, stamp=0.1 * k)
+        if k == 8:  # the floor line alone
+            scan = scan.with_ranges(np.where(hit == 2, scan.ranges, np.inf))
+        yaw = 0.0 if k < 8 else 1.0 + then_rad * min(k - 8, steps)
+        result = pvf.process(scan, pose_sensor_in_odom=(x_m, 0.0, yaw))
+        assert not (result.removed & (hit == 1)).any(), k
+        if k >= 10:
+            assert not result.lines.coasted, k
 
 
 def test_a_noisy_scanner_keeps_its_level_view():
@@ -886,6 +936,30 @@ def test_a_drive_the_matches_could_not_see_leaves_the_wall_ahead_standing(
         floor_beams += int((hit == 2).sum())
     assert false_alarms == 0
     assert floor_found > 0.95 * floor_beams
+
+
+def test_odometry_that_starts_at_a_coasting_scan_measures_only_the_steps_after_it():
+    # the hall above, the robot 1.2 times faster; the wheels' poses start at the scan
+    # that shows only its floor line and coasts (a pose dropped before). That scan's step
+    # is still the constant-velocity guess, which missed the drive: the wheels measured
+    # only the steps after it, and the scan after it is matched and compared as after a
+    # guess (the old code took the coast for a measured one, and removed 210 wall beams
+    # once the robot levelled)
+    pvf = ImprovedPitchVariationFilter(
+        ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    )
+    pitches_deg = [0.0] * 8 + [10.0, 12.0, 10.0, 6.0] + [0.0] * 10
+    speeds_mps = [0.0] * 8 + [0.4, 0.8, 1.2, 1.2, 0.8, 0.4] + [0.0] * 8
+    x_m = 0.0
+    for k, (pitch_deg, speed_mps) in enumerate(zip(pitches_deg, speeds_mps, strict=True)):
+        x_m += speed_mps * 1.2 * 0.2
+        scan, hit = tilted_scan((x_m, 0.0, 0.0), math.radians(pitch_deg), stamp=0.2 * k, walls=HALL)
+        if k == 10:
+            scan = scan.with_ranges(np.where(hit == 2, scan.ranges, np.inf))
+        result = pvf.process(scan, pose_sensor_in_odom=(x_m, 0.0, 0.0) if k >= 10 else None)
+        assert not (result.removed & (hit == 1)).any(), k
+        if k <= 10:  # the floor lines before the odometry had a step to give
+            assert (result.removed & (hit == 2)).sum() >= 0.95 * (hit == 2).sum(), k
 
 
 def test_level_driving_past_walls_that_show_no_drive_grows_no_doubt():
