@@ -134,6 +134,9 @@ class EgoMotion:
         # the step from it is no prior either (a wheel that spun may spin on, at a rate a
         # robot can turn)
         self.slipped = False
+        # the wheels measured every step coasted since the reference (a step without a
+        # pose, or before the first, was the constant-velocity guess)
+        self.wheels_throughout = True
         self.tilt = 0.0  # the previous scan's tilt, rad
         self.level = False  # the previous scan was level (no floor line, no IMU tilt)
         self.steady = False  # the velocity was measured between two level scans in a row
@@ -151,12 +154,13 @@ class EgoMotion:
         return turn_ok and drive_ok
 
     def plausible_pose(self, pose: np.ndarray | None, dt: float) -> np.ndarray | None:
-        """``pose``, or None where the wheels slipped: in the step to it
-        (:meth:`plausible_step`), or before, and have not run true since
+        """``pose`` as the prior's, or None where it gives no step to trust: no pose came
+        before it (odometry that starts in a sequence), or the wheels slipped, in the step
+        to it (:meth:`plausible_step`) or before, and have not run true since
         (:attr:`slipped`, :meth:`still_slipping`). The scan is matched as without odometry
         then. The next step starts from ``pose`` all the same (:meth:`commit` and
         :meth:`coast` keep the pose as given)."""
-        if self.slipped or not self.plausible_step(pose, dt):
+        if self.pose is None or self.slipped or not self.plausible_step(pose, dt):
             return None
         return pose
 
@@ -373,6 +377,7 @@ class EgoMotion:
         dt: float,
         pose: np.ndarray | None,
         slipped: bool = False,
+        wheels: bool = False,
     ) -> Match:
         """Carry on with the prior where a match failed in a pitch event: the previous scan
         stays the reference, and the motion since is what the prior expected.
@@ -385,8 +390,10 @@ class EgoMotion:
                 odometry's step from here, as the coasted motion already holds the steps up
                 to here.
             slipped: the wheels slipped in the step to ``pose`` (:attr:`slipped`).
+            wheels: the prior is the wheels' step (:attr:`wheels_throughout`).
         """
         self._carry(match.step, tilt_rad, dt, pose, slipped)
+        self.wheels_throughout = self.wheels_throughout and wheels
         self.level = self.steady = False  # (a coasting scan is taken as tilted)
         return dataclasses.replace(match, trusted=True)
 
@@ -439,6 +446,7 @@ class EgoMotion:
             self.steady = level and self.level and self.coasted_s == 0.0
         self.level = level
         left = np.count_nonzero(reference[:, 0] == reference[:, 0])  # NaN compares False
+        self.wheels_throughout = True  # (a trusted match measured the motion since)
         if match.trusted and self.reference is not None and left < MIN_REFERENCE_POINTS:
             self._carry(match.step, tilt_rad, dt, pose, slipped)
             return

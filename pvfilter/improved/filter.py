@@ -179,8 +179,6 @@ class ImprovedPitchVariationFilter:
         self._body = BodyBeams()
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
-        self._wheels_throughout = True  # the wheels measured every step coasted since the
-        # last matched scan
         self._new_sequence = True
 
     @property
@@ -260,7 +258,6 @@ class ImprovedPitchVariationFilter:
         if outcome.coast:
             self._ego.coasted_tilt(tilt)
         else:
-            self._wheels_throughout = True  # (nothing coasted since this scan)
             new_or_line = found.new | detection.candidates
             level = not _shows_tilt(detection.tilted, attitude)
             slipped = (
@@ -327,8 +324,7 @@ class ImprovedPitchVariationFilter:
         # the scan in its mid-scan frame, deskewed with the prior's velocity (an odometry
         # step no robot of this class can make is slip, and no prior)
         slipped = not self._ego.plausible_step(pose, dt)
-        wheel_pose = pose  # (odometry that starts in a sequence gives no step at first)
-        pose = self._ego.plausible_pose(pose, dt) if self._ego.pose is not None else None
+        wheel_pose, pose = pose, self._ego.plausible_pose(pose, dt)
         prior = self._ego.prior(dt, pose)
         velocity = prior[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
         mid_points = _mid_scan(points, layout, scan.time_increment, velocity, near)
@@ -438,7 +434,7 @@ class ImprovedPitchVariationFilter:
         )
         if match.trusted:
             seen = wheels or match.weak[0] >= WEAK_ROWS
-            measured = wheels and self._wheels_throughout
+            measured = wheels and self._ego.wheels_throughout
             return _MatchOutcome(match, travel_seen=seen, wheels=measured), prepared
         if wheels:  # the match failed against the wheels: did they slip?
             without = self._without_wheels(prepared)
@@ -465,9 +461,8 @@ class ImprovedPitchVariationFilter:
         # the next step starts from the wheels' pose now, slipped or not: from None, the
         # next pose would pass unchecked, and a slip that lasts two scans would be taken in
         slipped = prepared.slipped or self._ego.slipped  # (no trusted match: still slipping)
-        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, slipped)
-        measured = wheels and self._wheels_throughout
-        self._wheels_throughout = measured
+        coasted = self._ego.coast(match, match.tilt_rad, dt, prepared.wheel_pose, slipped, wheels)
+        measured = self._ego.wheels_throughout
         outcome = _MatchOutcome(
             coasted, coast=True, onset=onset, travel_seen=wheels, wheels=measured
         )
@@ -478,7 +473,7 @@ class ImprovedPitchVariationFilter:
         velocity before (a slipped wheel's velocity, turning the sensor within the sweep,
         bends the scan it deskews)."""
         dt = prepared.dt
-        velocity = self._ego.prior(dt, None)[0].scaled(1.0 / dt) if dt > 0.0 else Motion()
+        velocity = self._ego.velocity if dt > 0.0 else Motion()  # (the prior without wheels)
         mid_points = _mid_scan(
             prepared.points, self._layout, prepared.scan.time_increment, velocity, prepared.near
         )
@@ -730,7 +725,6 @@ class ImprovedPitchVariationFilter:
         self._follower.reset()
         self._doubt.reset()
         self._tilted_s = 0.0
-        self._wheels_throughout = True
 
     def _level(self, tilted: bool, dt: float, travelling: bool = False) -> bool:
         """The scan plane was level: no strong candidate line, and the IMU (if any) agrees.

@@ -175,7 +175,7 @@ class ImprovedParams:
     learn_roll: bool = True
     nan_is_no_echo: bool = False
     max_yaw_rate_rad_s: float = 4.0  # rad/s: a spin in place with the wheels at 0.6 m/s
-    # on a 0.3 m track; the robots of independent sequences spin at 3 rad/s, a wheel a
+    # on a 0.3 m track; the robots of independent sequences spin at up to 3 rad/s, a wheel a
     # shove spins reads 8-10 rad/s
     association_m: float = 0.25  # m
     odom_slip: float = 0.15  # 1
