@@ -9,6 +9,7 @@ from pvfilter.improved import ImprovedParams
 from pvfilter.improved.imu import (
     IMU_CHECK_FACTOR,
     IMU_CHECK_LINES,
+    IMU_CHECK_MAX_BAND_DEG,
     IMU_CHECK_MIN_LINES,
     IMU_SIGN_MIN_VOTES,
     IMU_TIMING_S,
@@ -59,6 +60,22 @@ def test_an_imu_that_is_off_widens_its_band_so_it_cannot_veto_the_lines():
     attitude = track.update((0.10, 0.0), 1.0)
     assert attitude.error_rad == pytest.approx(IMU_CHECK_FACTOR * off)
     assert attitude.pitch_rad == 0.10  # not corrected: a lag is off either way
+
+
+@pytest.mark.parametrize("off_deg", [15.0, 40.0])
+def test_lines_farther_off_than_a_balancing_robots_estimate_teach_at_most_the_widest_band(
+    off_deg,
+):
+    # an attic's low walls and sloped roof, taken for floor lines, put the plane 15 to 25
+    # deg off a good estimate: the band stops at IMU_CHECK_MAX_BAND_DEG, and the IMU
+    # still vetoes lines beyond it
+    track = AttitudeTrack(PARAMS)
+    for k in range(IMU_CHECK_LINES):
+        track.update((0.12, 0.0), 0.1 * k)
+        track.check(0.12 + math.radians(off_deg))
+    attitude = track.update((0.12, 0.0), 0.1 * IMU_CHECK_LINES)
+    assert attitude.error_rad == pytest.approx(math.radians(IMU_CHECK_MAX_BAND_DEG))
+    assert IMU_CHECK_FACTOR * math.radians(off_deg) > attitude.error_rad
 
 
 def test_lines_seen_while_the_estimate_changes_fast_or_on_the_up_side_are_not_compared():
