@@ -26,8 +26,14 @@ pitch of its own, and the band is at least ``IMU_CHECK_FACTOR`` times the
 narrow band; a poor one widens it until the scans decide, so an IMU that is off never
 vetoes a floor line the scans show. The error is not taken as an offset to correct: an
 estimator that lags is off one way while the robot pitches nose down and the other way
-nose up. Wrong lines among the confident ones (a wall taken for the floor) are a minority
-the quantile passes over.
+nose up. Wrong lines among the confident ones (a wall taken for the floor) are mostly a
+minority the quantile passes over. Where they are not, the band they teach stops at
+``IMU_CHECK_MAX_BAND_DEG`` (the pitch rate's widening comes on top, and a wider
+``imu_angle_error_deg`` stands): lines farther from the estimate than a balancing
+robot's estimator, a LiDAR mounted a few degrees off and a ramp's slope together put
+them are the ones that are wrong. In an attic, low walls 2 m behind a plane pitched 7
+degrees would, as floor lines, need 15 to 25 degrees of tilt; learned from them, the
+band grew to 26 degrees, and the IMU counted against no line within it.
 
 Nor can the band mend an estimate of the wrong sign (an IMU whose pitch is positive nose
 up, say): it puts the floor on the ceiling's side, vetoes the floor lines, and no
@@ -61,10 +67,16 @@ IMU_CHECK_MAX_RATE = 0.5  # rad/s: lines seen while the estimate changes faster 
 IMU_CHECK_QUANTILE = 0.8  # the differences seen are measured by this quantile of their size
 IMU_CHECK_FACTOR = 1.5  # the band is this many times that quantile: about 1.9 standard
 # deviations of normal differences (a veto must hold for nearly all of them)
+IMU_CHECK_MAX_BAND_DEG = 10.0  # deg: the widest band the lines can teach: a balancing
+# robot's estimate is off by a few degrees at most (its controller acts on it; the
+# simulator's, 2-4 while it accelerates), with a mount up to about 3 deg off and the
+# slope of a ramp up to about 6 deg (a wheelchair ramp's 1:12 is 4.8) on top. Capped at
+# 6 deg, the independent sequences' 6 deg hospital ramp scored lower
 IMU_SIGN_MIN_VOTES = 6  # scans whose floor side contradicts the estimate's before it is
 # disowned (with a good IMU 0-5 scans of a fourth-generator sequence do, against 0-69
 # that agree)
 IMU_SIGN_RATIO = 3.0  # and at least this many times as many as agree with it
+MAX_BAND_RAD = math.radians(IMU_CHECK_MAX_BAND_DEG)
 
 
 class ImuSignWarning(UserWarning):
@@ -172,7 +184,7 @@ class AttitudeTrack:
         if len(self.differences) >= IMU_CHECK_MIN_LINES:
             differences = np.abs(np.fromiter(self.differences, float))
             size = float(np.quantile(differences, IMU_CHECK_QUANTILE))
-            self.learned_rad = IMU_CHECK_FACTOR * size
+            self.learned_rad = min(IMU_CHECK_FACTOR * size, MAX_BAND_RAD)
 
     def _vote(self, agree: bool) -> None:
         """Count one scan's floor side against the estimate's; disown a contradicted IMU."""

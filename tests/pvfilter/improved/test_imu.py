@@ -3,18 +3,22 @@ which side is down."""
 
 import math
 
+import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams
 from pvfilter.improved.imu import (
     IMU_CHECK_FACTOR,
     IMU_CHECK_LINES,
+    IMU_CHECK_MAX_BAND_DEG,
     IMU_CHECK_MIN_LINES,
     IMU_SIGN_MIN_VOTES,
     IMU_TIMING_S,
+    Attitude,
     AttitudeTrack,
     ImuSignWarning,
 )
+from pvfilter.improved.scoring import _imu_agreement
 
 PARAMS = ImprovedParams()
 BASE = math.radians(PARAMS.imu_angle_error_deg)
@@ -59,6 +63,37 @@ def test_an_imu_that_is_off_widens_its_band_so_it_cannot_veto_the_lines():
     attitude = track.update((0.10, 0.0), 1.0)
     assert attitude.error_rad == pytest.approx(IMU_CHECK_FACTOR * off)
     assert attitude.pitch_rad == 0.10  # not corrected: a lag is off either way
+
+
+def _taught(track: AttitudeTrack, pitch_rad: float, line_rad: float) -> Attitude:
+    """``track``'s attitude after IMU_CHECK_LINES confident lines at ``line_rad`` while the
+    estimate held ``pitch_rad``."""
+    for k in range(IMU_CHECK_LINES):
+        track.update((pitch_rad, 0.0), 0.1 * k)
+        track.check(line_rad)
+    return track.update((pitch_rad, 0.0), 0.1 * IMU_CHECK_LINES)
+
+
+@pytest.mark.parametrize("off_deg", [15.0, 40.0])
+def test_lines_farther_off_than_a_balancing_robots_estimate_teach_at_most_the_widest_band(
+    off_deg,
+):
+    # an attic's low walls, taken for floor lines ahead of a plane 7 deg nose down, need
+    # 15 deg or more of tilt beyond the estimate: the band they teach stops at
+    # IMU_CHECK_MAX_BAND_DEG, and such a line lies beyond it (the IMU counts against it)
+    pitch, off = 0.12, math.radians(off_deg)
+    attitude = _taught(AttitudeTrack(PARAMS), pitch, pitch + off)
+    assert attitude.error_rad == pytest.approx(math.radians(IMU_CHECK_MAX_BAND_DEG))
+    _, beyond, _ = _imu_agreement(
+        np.array([2.0]), np.array([1.0]), np.array([pitch + off]), attitude, PARAMS
+    )
+    assert beyond[0]
+
+
+def test_a_wider_band_set_by_the_user_stands_above_the_widest_the_lines_teach():
+    wide = ImprovedParams(imu_angle_error_deg=15.0)
+    attitude = _taught(AttitudeTrack(wide), 0.12, 0.12 + math.radians(30.0))
+    assert attitude.error_rad == pytest.approx(math.radians(15.0))
 
 
 def test_lines_seen_while_the_estimate_changes_fast_or_on_the_up_side_are_not_compared():
