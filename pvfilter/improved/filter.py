@@ -497,9 +497,24 @@ class ImprovedPitchVariationFilter:
             creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
         self._doubt.settle(was_in_event or not level, creep_m)
         hold = self._hold(detection)
+        # the robot's own body is no surface of the world: its returns teach the view
+        # nothing where it stays (body.py), and elsewhere the view knows nothing there
+        body = None
+        if self._body.tracking or np.count_nonzero(prepared.near):
+            body = self._body.returning_body(
+                np.where(prepared.near, prepared.ranges, np.nan),
+                detection.motion,
+                prepared.dt,
+                params.memory_timeout_s,
+            )
+        held = self._body.held(body)
+        ranges, no_echo = prepared.ranges, prepared.no_echo
+        if held is not None:
+            ranges = np.where(held, np.nan, ranges)  # (NaN: unmeasured, teaches nothing)
+            no_echo = no_echo & ~held
         self._memory.update(
-            prepared.ranges,
-            prepared.no_echo,
+            ranges,
+            no_echo,
             found.view,
             prepared.dt,
             self.params,
@@ -512,17 +527,13 @@ class ImprovedPitchVariationFilter:
             scan.range_max,
             travelling,
         )
-        # the robot's own body is no surface of the world: the view knows nothing there
-        near = prepared.near
-        if self._body.tracking or np.count_nonzero(near):
-            body = self._body.returning_body(
-                np.where(near, prepared.ranges, np.nan),
-                detection.motion,
-                prepared.dt,
-                params.memory_timeout_s,
-            )
-            if body is not None:
-                self._memory.forget(body)
+        if body is not None:  # where it stays, the world behind it is kept (free, or as
+            # far as a floor line can lie: nearer, the body itself taught it before it was
+            # found to be one)
+            if held is not None:
+                behind = self._memory.state.ranges >= params.min_line_distance_m
+                body = body & ~(held & behind)  # (NaN, unknown, compares False)
+            self._memory.forget(body)
         self._recent.add(scan.stamp, found.level_ranges)
 
     def _across(self, segments: Segments, count: int) -> np.ndarray | None:

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from pvfilter.improved.body import BodyBeams
+from pvfilter.improved.body import BODY_HELD_SCANS, BodyBeams
 from pvfilter.improved.motion import STILL, Motion
 
 BODY = np.array([True, False, False, False])
@@ -115,3 +115,17 @@ def test_a_new_sequence_forgets_the_near_returns():
     beams.reset()
     assert not beams.tracking
     assert beams.returning_body(NEAR_M, FORWARD, 0.1, 1.5) is None
+
+
+def test_only_beams_that_return_the_body_scan_after_scan_are_held():
+    beams = BodyBeams()
+    mast = np.array([True, True, False, False])
+    for _ in range(BODY_HELD_SCANS - 1):
+        assert beams.held(mast) is None  # not yet for long enough
+    assert beams.held(mast).tolist() == [True, True, False, False]
+    assert beams.held(np.array([True, False, True, False])).tolist() == [True] + [False] * 3
+    assert beams.held(None) is None  # a scan without the body starts the count again
+    for _ in range(BODY_HELD_SCANS - 1):
+        assert beams.held(mast) is None
+    beams.reset()  # a new sequence
+    assert beams.held(mast) is None
