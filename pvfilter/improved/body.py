@@ -46,7 +46,6 @@ from collections import deque
 
 import numpy as np
 
-
 from pvfilter.improved.motion import STILL, Motion
 
 BODY_TRAVEL_M = 0.1  # m: a near return that keeps its range while the sensor moves this far
