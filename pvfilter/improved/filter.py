@@ -177,6 +177,7 @@ class ImprovedPitchVariationFilter:
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
         self._body = BodyBeams()
+        self._held_body: np.ndarray | None = None  # the beams the body stays on (body.py)
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
@@ -203,6 +204,7 @@ class ImprovedPitchVariationFilter:
         self._attitude.reset()
         self._roll.reset()
         self._body.reset()
+        self._held_body = None
         self._noise.reset()
         self._scanner_params()
 
@@ -376,6 +378,10 @@ class ImprovedPitchVariationFilter:
             unseen_travel,
             outcome.travel_seen,
         )
+        if self._held_body is not None:  # the body's own returns: in front of the world
+            # the view keeps behind it, and never new (it is fixed to the sensor: the
+            # beams of the scan before are this scan's)
+            new = new & ~self._held_body
         # a floor line held through a turn in place keeps its place in the sensor frame
         held = self._follower.held(scan.stamp, self._recent.pose)
         # detect: score segments, claim the points on the lines, build the clusters
@@ -497,9 +503,24 @@ class ImprovedPitchVariationFilter:
             creep_m = (params.line_shrink_mps + prepared.velocity.translation_m) * prepared.dt
         self._doubt.settle(was_in_event or not level, creep_m)
         hold = self._hold(detection)
+        # the robot's own body is no surface of the world: its returns teach the view
+        # nothing where it stays (body.py), and elsewhere the view knows nothing there
+        body = None
+        if self._body.tracking or np.count_nonzero(prepared.near):
+            body = self._body.returning_body(
+                np.where(prepared.near, prepared.ranges, np.nan),
+                detection.motion,
+                prepared.dt,
+                params.memory_timeout_s,
+            )
+        held = self._held_body = self._body.held(body, prepared.dt, params.memory_timeout_s)
+        ranges, no_echo = prepared.ranges, prepared.no_echo
+        if held is not None:
+            ranges = np.where(held, np.nan, ranges)  # (NaN: unmeasured, teaches nothing)
+            no_echo = no_echo & ~held
         self._memory.update(
-            prepared.ranges,
-            prepared.no_echo,
+            ranges,
+            no_echo,
             found.view,
             prepared.dt,
             self.params,
@@ -512,17 +533,13 @@ class ImprovedPitchVariationFilter:
             scan.range_max,
             travelling,
         )
-        # the robot's own body is no surface of the world: the view knows nothing there
-        near = prepared.near
-        if self._body.tracking or np.count_nonzero(near):
-            body = self._body.returning_body(
-                np.where(near, prepared.ranges, np.nan),
-                detection.motion,
-                prepared.dt,
-                params.memory_timeout_s,
-            )
-            if body is not None:
-                self._memory.forget(body)
+        if body is not None:  # where it stays, the world behind it is kept (free, or as
+            # far as a floor line can lie: nearer, the body itself taught it before it was
+            # found to be one)
+            if held is not None:
+                behind = self._memory.state.ranges >= params.min_line_distance_m
+                body = body & ~(held & behind)  # (NaN, unknown, compares False)
+            self._memory.forget(body)
         self._recent.add(scan.stamp, found.level_ranges)
 
     def _across(self, segments: Segments, count: int) -> np.ndarray | None:
@@ -755,6 +772,7 @@ class ImprovedPitchVariationFilter:
         if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
             self._body.reset()  # (another recording may follow)
+            self._held_body = None
         self._previous_stamp = scan.stamp
         fits = self._layout is not None and self._layout.fits(scan)
         fresh = self._new_sequence or not fits
@@ -762,6 +780,7 @@ class ImprovedPitchVariationFilter:
         if not fits:
             self._layout = BeamLayout.of(scan)
             self._body.reset()
+            self._held_body = None
             self._noise.reset()
             self._scanner_params()
         dt = 0.0 if previous is None else scan.stamp - previous

@@ -58,7 +58,10 @@ So the memory keeps, per beam, the range of the level view in the current sensor
 - so is a beam whose near return is fixed to the sensor, the robot's own body
   (:mod:`pvfilter.improved.body`, :meth:`LevelMemory.forget`): it moves with the sensor,
   and carried with the motion as a surface of the world it slid across the beams beside
-  it and stood, decimetres away, in front of everything there;
+  it and stood, decimetres away, in front of everything there. Where the body has
+  stayed on its beams for a while (a mast), its returns teach the view nothing, and the
+  view keeps the world it knew behind it: as the robot turns, that knowledge turns with
+  it onto the beams beside;
 - a remembered surface that the sensor passes on the way the motion carries it, nearer
   than the scanner measures (``range_min``, and at least ``NEAREST_SURFACE_M``, its own
   housing), was never one the sensor could meet: a ramp's slope or a floor met at a

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from pvfilter.improved.body import BodyBeams
+from pvfilter.improved.body import BODY_HELD_SCANS, BodyBeams
 from pvfilter.improved.motion import STILL, Motion
 
 BODY = np.array([True, False, False, False])
@@ -115,3 +115,33 @@ def test_a_new_sequence_forgets_the_near_returns():
     beams.reset()
     assert not beams.tracking
     assert beams.returning_body(NEAR_M, FORWARD, 0.1, 1.5) is None
+
+
+def test_only_beams_that_return_the_body_scan_after_scan_are_held():
+    # held after BODY_HELD_SCANS scans and hold_s seconds of body, scan after scan
+    beams = BodyBeams()
+    mast = np.array([True, True, False, False])
+    for _ in range(BODY_HELD_SCANS - 1):
+        assert beams.held(mast, 1.0, 1.5) is None  # not yet for enough scans
+    assert beams.held(mast, 1.0, 1.5).tolist() == [True, True, False, False]
+    assert beams.held(np.array([True, False, True, False]), 1.0, 1.5).tolist() == [
+        True,
+        False,
+        False,
+        False,
+    ]
+    assert beams.held(None, 1.0, 1.5) is None  # a scan without the body ends every run
+    for _ in range(BODY_HELD_SCANS - 1):
+        assert beams.held(mast, 1.0, 1.5) is None
+    assert beams.held(mast, 1.0, 1.5) is not None  # (held again)
+    beams.reset()  # a new sequence
+    assert beams.held(mast, 1.0, 1.5) is None
+
+
+def test_a_body_is_held_only_after_hold_s_however_many_scans():
+    # at 32 Hz, three scans are 0.09 s: a wall the sensor drives along that long is no
+    # part of the robot yet
+    beams = BodyBeams()
+    mast = np.array([True, False])
+    held = [beams.held(mast, 0.03125, 1.5) is not None for _ in range(60)]
+    assert held.index(True) == 47  # 48 scans: 1.5 s

@@ -620,6 +620,27 @@ def test_the_robots_own_frame_in_view_does_not_pin_the_scan_match_to_standing(bo
     assert sum(steps) == pytest.approx(-0.5, abs=0.1)
 
 
+def test_a_mast_behind_a_spinning_scanner_leaves_the_view_of_the_world_behind_it():
+    # two posts of a mast return 10 cm off on the beams 140-165 deg either side behind a
+    # 360 deg scanner that spins in place at 1.75 rad/s. Forgotten where the posts stood,
+    # the view of each direction they passed was unknown, and when the robot pitched nose
+    # up the floor line in the window between them was new on 40 of its 60 beams
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
+    pvf = ImprovedPitchVariationFilter(params)
+    rng = np.random.default_rng(7)
+    for k in range(27):
+        pitch_rad = math.radians(-8.0) if k == 26 else 0.0
+        scan, hit = tilted_scan((0.8, 0.0, 0.175 * k), pitch_rad, stamp=0.1 * k)
+        angles = np.abs(scan.angles())
+        post = (angles >= math.radians(140.0)) & (angles <= math.radians(165.0))
+        mast_m = 0.1 + rng.normal(0.0, 0.003, len(scan))
+        result = pvf.process(scan.with_ranges(np.where(post, mast_m, scan.ranges)))
+    window = (angles > math.radians(165.0)) & (hit == 2)
+    assert np.count_nonzero(window) >= 50
+    assert result.removed[window].all()
+    assert np.count_nonzero(result.removed & (hit == 1)) <= 1  # (a wall beam at a corner)
+
+
 def test_a_low_top_seen_again_where_it_stood_is_not_new():
     # standing on a rough floor, the plane passes over a low top for 0.4 s: the view
     # takes the wall behind it (after confirm_free_s); when the top is hit again, it is
