@@ -32,13 +32,13 @@ Where a beam has returned the body scan after scan for ``BODY_HELD_SCANS`` scans
 ``memory_timeout_s``, a part of the robot stands there for good (a mast, a frame), and
 the view keeps what it knew of the world behind it: the body's returns teach it nothing
 and are never new, and as the robot turns, the view's knowledge there turns with it onto
-the beams beside it. Forgetting it, a mast whose two posts block
-the sectors 140-165 degrees either side behind a spinning 360° scanner wiped the view of
-every direction it passed, and the floor line of a pitch event in the window between the
-posts fell where the view knew nothing: it was never new. A surface of the world that is
-taken for the body while the sensor drives along it lasts a scan or two there, or some
-tenths of a second, and is forgotten as before: kept, the view held the world of before
-while the wall stood in front of it, and the wall was new when the body left it.
+the beams beside it. Forgetting it, a mast whose two posts block the sectors 140-165
+degrees either side behind a spinning 360° scanner wiped the view of every direction it
+passed, and the floor line of a pitch event in the window between the posts fell where
+the view knew nothing: it was never new. A surface of the world that is taken for the
+body while the sensor drives along it lasts a scan or two there, or some tenths of a
+second, and is forgotten as before: kept, the view held the world of before while the
+wall stood in front of it, and the wall was new when the body left it.
 """
 
 from __future__ import annotations
