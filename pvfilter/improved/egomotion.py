@@ -270,8 +270,7 @@ class EgoMotion:
         if odometry:
             trusted &= self._within_odometry_spread(found, expected, spread)
             if trusted and self.coasted_s == 0.0:
-                off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
-                self._odometry_agrees(off_turn / spread[0])
+                self._odometry_agrees(_turn_between(found, expected) / spread[0])
         if not trusted:  # what the prior expected, for a filter that coasts on it
             return Match(step_prior, False, guess, ranges)
         return Match(step, True, guess, ranges, (found.weak_rows, found.weak_axis_rad))
@@ -281,7 +280,7 @@ class EgoMotion:
     ) -> bool:
         """``found`` lies within ``ODOM_SIGMAS`` of the odometry's ``spread`` (rad, m) of
         ``expected``, with the match's own uncertainty (2 degrees, half ``association_m``)."""
-        off_turn = abs(math.remainder(found.theta_rad - expected.theta_rad, 2.0 * math.pi))
+        off_turn = _turn_between(found, expected)
         off_shift = math.hypot(found.tx_m - expected.tx_m, found.ty_m - expected.ty_m)
         return (
             off_turn <= ODOM_SIGMAS * spread[0] + math.radians(2.0)
@@ -462,6 +461,11 @@ class EgoMotion:
         self.coasted_s = 0.0
         self.tilt = tilt_rad
         self.pose, self.slipped = pose, slipped and pose is not None
+
+
+def _turn_between(a: Motion, b: Motion) -> float:
+    """How far the turns of two steps differ, rad (>= 0; wrapped: a turn is an angle)."""
+    return abs(math.remainder(a.theta_rad - b.theta_rad, 2.0 * math.pi))
 
 
 def fit_trusted(residual_m: float, ranges: np.ndarray, level: bool) -> bool:
