@@ -228,6 +228,14 @@ class WorldStatic:
                 (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
                 tells).
         """
+        offsets = self.offsets(beams, floor_shift_m)
+        static = offsets.telling & (np.abs(offsets.world_m) <= offsets.tolerance_m)  # NaN: no
+        return static, offsets.telling
+
+    def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
+        """For ``beams``: how far each return lies from where a surface fixed in the world
+        would lie, and from where the earlier scan saw it on its beam (:class:`Offsets`;
+        the arguments as :meth:`at`'s)."""
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
         angle = self.directions.take(beams)
@@ -250,8 +258,17 @@ class WorldStatic:
             telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
-        static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
-        return static, telling
+        return Offsets(ranges - (earlier + moved), ranges - earlier, telling, tolerance)
+
+
+class Offsets(NamedTuple):
+    """Where returns lie against an earlier scan (:meth:`WorldStatic.offsets`), per beam
+    asked about, m along the beam; NaN where either scan saw nothing there."""
+
+    world_m: np.ndarray  # from where a surface fixed in the world would lie now
+    sensor_m: np.ndarray  # from where the earlier scan saw it (a surface fixed to the sensor)
+    telling: np.ndarray  # bool: the sensor's motion (or a standing robot's pitch) tells
+    tolerance_m: np.ndarray  # how near its prediction a return lies
 
 
 class Earlier(NamedTuple):

@@ -43,7 +43,7 @@ from pvfilter.improved.evidence import (
     free_space_evidence,
     free_space_gaps,
 )
-from pvfilter.improved.follow import FloorFollower, travelling_line
+from pvfilter.improved.follow import FloorFollower, LinePlace, travelling_line
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
@@ -176,6 +176,7 @@ class ImprovedPitchVariationFilter:
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
+        self._travelled: LinePlace | None = None  # the floor line last found travelling
         self._body = BodyBeams()
         self._held_body: np.ndarray | None = None  # the beams the body stays on (body.py)
         self._doubt = ViewDoubt()
@@ -492,9 +493,24 @@ class ImprovedPitchVariationFilter:
         params = self.params
         was_in_event = 0.0 < self._tilted_s <= params.max_event_s
         tilted = detection.tilted or coast
-        travelling = None  # past a pitch event's length: a floor line that travels with the sensor
-        if tilted and self._tilted_s + prepared.dt > params.max_event_s:
-            travelling = travelling_line(detection, found.static, self._line_params)
+        # past a pitch event's length, a floor line that travels with the sensor; asked too
+        # where the view's beams would settle onto what stood in front of them that long,
+        # as beams whose returns came in front before the scans counted as tilted do first,
+        # once the world-static test's earlier scan lies within the event (before, a line
+        # not in that scan at all left its place as a travelling one does)
+        travelling = None
+        if tilted and (
+            self._tilted_s + prepared.dt > params.max_event_s
+            or (
+                self._tilted_s >= STATIC_BASELINE_S
+                and _settling(found.view, prepared.dt, params.max_event_s)
+            )
+        ):
+            travelling, self._travelled = travelling_line(
+                detection, found.static, self._line_params, self._travelled
+            )
+        else:
+            self._travelled = None
         level = self._level(tilted, prepared.dt, travelling is not None)
         # the doubt of a step into or out of a pitch event stays; after it the view comes
         # closer behind lines across the travel at line_shrink_mps plus the drive
@@ -740,6 +756,7 @@ class ImprovedPitchVariationFilter:
         self._ego.reset()
         self._recent.clear()
         self._follower.reset()
+        self._travelled = None
         self._doubt.reset()
         self._tilted_s = 0.0
 
@@ -811,3 +828,13 @@ def _shows_tilt(lines_tilted: bool, attitude: Attitude | None) -> bool:
     """The scan plane was tilted: a strong candidate line, or the IMU (if any) shows it
     tilted beyond its band."""
     return lines_tilted or (attitude is not None and attitude.tilted)
+
+
+def _settling(view: LevelView | None, dt: float, max_event_s: float) -> bool:
+    """Some beam's returns will have stood in front of the level ``view`` for longer than
+    ``max_event_s`` after this step of ``dt`` s: the view settles onto them there
+    (:meth:`~pvfilter.improved.memory.LevelMemory.update`) unless they lie on a floor
+    line that travels with the sensor. Each beam keeps its own clock, so a line whose
+    beams came in front a scan or two before the scans counted as tilted settles there
+    first, while it is still confident, and the scans' own clock would ask too late."""
+    return view is not None and float(view.ahead_s.max(initial=0.0)) + dt > max_event_s

@@ -20,18 +20,31 @@ reappears where a floor line was, taken for one, stays put in the world; followi
 would hold the view off it, and keep it new, for as long as it is seen.
 
 A pitch event ends within ``max_event_s`` (the robot levels), and past it the scans are
-taken as level again, so that a wall taken for a floor line cannot freeze the level view.
-A tilt can last longer: a robot held leaning while it drives on, a body that follows a
-ramp's slope. Its floor line then **travels with the sensor**: it keeps its distance
-while the sensor moves through the world, where a wall stays put and comes nearer or
-recedes by the travel. So a scan past ``max_event_s`` whose strongest confident line left
-its place in the world since the world-static test's earlier scan
-(:func:`travelling_line`: at least half of its returns tell, and at least
-``TRAVELLED_SHARE`` of those moved) still counts as tilted, and the view does not settle
-onto that line. A return tells where the sensor moved along its beam by more than twice
-the test's tolerance within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of
-about 0.3 m/s. A robot that stands or creeps tells nothing by its travel, and the event
-ends at ``max_event_s`` as before.
+taken as level again, so that a wall taken for a floor line cannot freeze the level
+view. A tilt can last longer: a robot held leaning while it drives on, a body that
+follows a ramp's slope. Its floor line then **travels with the sensor**: it keeps its
+distance while the sensor moves through the world, where a wall stays put and comes
+nearer or recedes by the travel. So a scan past ``max_event_s`` whose strongest
+confident line left its place in the world since the world-static test's earlier scan
+(:func:`travelling_line`: at least half of its returns tell, and their median left the
+place) still counts as tilted, and the view does not settle onto that line. A return
+tells where the sensor moved along its beam by more than twice the test's tolerance
+within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of about 0.3 m/s. A robot
+that stands or creeps tells nothing by its travel, and the event ends at ``max_event_s``
+as before.
+
+Two things make the question come in time. The level view keeps a clock per beam, and
+its beams settle onto returns that stood in front of them for ``max_event_s``; a line's
+beams that came in front a scan or two before the scans counted as tilted settle first,
+and the line, no longer new there, may be no longer confident when the scans' own clock
+asks. So the filter asks whenever a beam would settle in a tilted scan. And the test's
+tolerance grows with the range: a robot driving at 0.5-0.8 m/s tells a floor line 8 m
+off on some scans only (twice the tolerance there is 0.23 m, and the earlier scan lies
+0.3 s back on some scans, 0.4 s on others). So a line once found travelling goes on
+travelling while the test cannot tell, as long as each scan's line keeps the place of
+the scan before's (:class:`LinePlace`: the same side, its distance within twice the
+test's tolerance, its direction within ``TURN_TOLERANCE``); a scan whose test tells that
+it stayed put ends it.
 
 The hold lasts as long as the scans show such a line: a line that travels with the
 sensor is no wall, but it may be something that moves with the robot (a cart it follows
@@ -54,12 +67,44 @@ from pvfilter.improved.medians import median_of_few
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.scoring import HeldLine, strongest_confident
+from pvfilter.improved.segmentation import Segments
 
 TOLD_SHARE = 0.5  # of a line's returns, the share whose place the sensor's travel must tell
-TRAVELLED_SHARE = 0.5  # of those, the share that must have left it for the line to travel
-# with the sensor (a wall: none; a confident line's score already holds few that stayed)
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
+
+
+@dataclasses.dataclass(frozen=True)
+class LinePlace:
+    """Where a floor line lay in the sensor frame.
+
+    Attributes:
+        side: +1 ahead, -1 behind.
+        distance_m: its distance from the sensor, m.
+        lean_rad: the direction of its normal from the sensor's x axis, rad
+            (:func:`~pvfilter.improved.geometry.line_lean`).
+    """
+
+    side: int
+    distance_m: float
+    lean_rad: float
+
+    @classmethod
+    def of(cls, segments: Segments, segment: int) -> LinePlace:
+        """The place of ``segments``' line ``segment``."""
+        normal_x, normal_y = segments.normals[segment].tolist()
+        side = 1 if segments.centroids[segment, 0] >= 0.0 else -1
+        return cls(side, float(segments.distances[segment]), float(line_lean(normal_y, normal_x)))
+
+    def kept_by(self, place: LinePlace, tolerance_m: float) -> bool:
+        """``place`` is this one, as far as the world-static test could tell them apart:
+        the same side, the distance within ``tolerance_m``, the direction within
+        ``TURN_TOLERANCE``."""
+        return (
+            place.side == self.side
+            and abs(place.distance_m - self.distance_m) <= tolerance_m
+            and abs(float(folded(place.lean_rad - self.lean_rad))) <= TURN_TOLERANCE
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,10 +151,15 @@ class StrongLine:
         # the most new points; of those, the most points: the best measured direction
         new_counts = np.where(on_side, scores.new_counts, -1.0)
         strongest = int(np.lexsort((segments.sizes, new_counts))[-1])
-        distance = float(segments.distances[strongest])
-        normal_x, normal_y = segments.normals[strongest].tolist()
-        direction = float(line_lean(normal_y, normal_x))
-        return cls(detection.down_side, tilt, distance, direction, detection.scan.stamp, pose)
+        place = LinePlace.of(segments, strongest)
+        return cls(
+            detection.down_side,
+            tilt,
+            place.distance_m,
+            place.lean_rad,
+            detection.scan.stamp,
+            pose,
+        )
 
 
 class FloorFollower:
@@ -202,36 +252,75 @@ class FloorFollower:
 
 
 def travelling_line(
-    detection: LineDetection, static: WorldStatic | None, params: ImprovedParams
-) -> np.ndarray | None:
+    detection: LineDetection,
+    static: WorldStatic | None,
+    params: ImprovedParams,
+    travelled: LinePlace | None = None,
+) -> tuple[np.ndarray | None, LinePlace | None]:
     """Per beam: it lies on the scan's strongest confident floor line, and that line has
     travelled with the sensor (None: no such line, or the sensor's travel tells too
-    little of it).
+    little of it); and the line's place, to be passed as ``travelled`` with the next scan
+    (None: it did not travel).
 
     The line travelled where at least half of its returns tell (the sensor moved along
     their beams by more than the world-static test's tolerance twice,
-    :meth:`~pvfilter.improved.evidence.WorldStatic.at`) and at least
-    ``TRAVELLED_SHARE`` of those did not stay where the earlier scan saw them.
+    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`) and the median of those lies
+    farther than the tolerance from where the earlier scan, moved by the sensor's
+    travel, puts a surface fixed in the world (:func:`_left_its_place`). Where too
+    few tell, it still travels if it keeps the place of the line that ``travelled`` in
+    the scan before (:meth:`LinePlace.kept_by`, within twice the test's tolerance): far
+    out, the tolerance grows with the range, and a robot driving at a few decimetres a
+    second tells a floor line 8 m off on some scans only. A scan whose test tells that the
+    line stayed put, or that has no confident line, ends it.
 
     Args:
         detection: the scan's line detection.
         static: the world-static test against an earlier scan (None: none).
         params: ``down_side_min_new`` (what makes a line confident).
+        travelled: where the line found travelling in the scan before lay (None: none was).
     """
     if static is None:
-        return None
+        return None, None
     segments = detection.segments
     strongest = strongest_confident(segments, detection.segment_scores, params)
     if strongest is None:
-        return None
+        return None, None
     on_line = segments.labels == strongest
     beams = segments.beams[on_line]
-    stayed, telling = static.at(beams)
-    told = np.count_nonzero(telling)
-    if told < TOLD_SHARE * beams.size:
-        return None
-    if np.count_nonzero(telling & ~stayed) < TRAVELLED_SHARE * told:
-        return None
+    place = LinePlace.of(segments, strongest)
+    offsets = static.offsets(beams)
+    telling = offsets.telling
+    if np.count_nonzero(telling) >= TOLD_SHARE * beams.size:
+        if not _travelled_with_the_sensor(
+            offsets.world_m[telling], offsets.sensor_m[telling], offsets.tolerance_m[telling]
+        ):
+            return None, None
+    elif travelled is None or not travelled.kept_by(
+        place, 2.0 * (static.tolerance_m + 0.01 * place.distance_m)
+    ):
+        return None, None
     travelling = np.zeros(len(detection.scan), dtype=bool)
     travelling[beams] = True
-    return travelling
+    return travelling, place
+
+
+def _travelled_with_the_sensor(
+    world_m: np.ndarray, sensor_m: np.ndarray, tolerance_m: np.ndarray
+) -> bool:
+    """A line whose returns lie ``world_m`` from where a surface fixed in the world would,
+    and ``sensor_m`` from where the earlier scan saw them (one fixed to the sensor; NaN:
+    either scan saw nothing there), travelled with the sensor: the median of the first
+    lies farther than the median tolerance, and farther than that of the second.
+
+    Medians, not counts of returns beyond the tolerance: a scanner with 5 cm of range
+    noise scatters about half of a wall's returns beyond it, scan after scan, while their
+    median stays within a centimetre. And the line must lie nearer where a surface fixed
+    to the sensor would than where one fixed in the world would: where the scan match
+    reads less travel than the robot drove (floor lines hiding the walls along it), a
+    wall ahead comes nearer than the world's prediction, but nearer still than where the
+    earlier scan saw it, where a travelling line stays."""
+    world, sensor = world_m[~np.isnan(world_m)], sensor_m[~np.isnan(sensor_m)]
+    if not world.size:  # (the earlier scan saw nothing where the line lies: it was not there)
+        return False
+    world_off = abs(float(np.median(world)))
+    return world_off > float(np.median(tolerance_m)) and abs(float(np.median(sensor))) < world_off

@@ -15,6 +15,7 @@ from pvfilter.improved.follow import (
     FOLLOW_S,
     TURN_TOLERANCE,
     FloorFollower,
+    LinePlace,
     StrongLine,
     travelling_line,
 )
@@ -244,17 +245,93 @@ def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_n
     directions = np.full(len(scan), math.atan2(-normal_x, normal_y))  # along the line
     drove = Motion(tx_m=-0.12)  # the sensor 0.12 m on since the earlier scan
     travelled = WorldStatic(ranges, ranges, directions, layout, drove, STATIC_TOLERANCE_M)
-    moving = travelling_line(detection, travelled, pvf.params)
+    moving, place = travelling_line(detection, travelled, pvf.params)
     assert moving is not None and moving[on_floor].mean() > 0.9 and not moving[~on_floor].any()
+    assert place == LinePlace.of(segments, strongest)
     # a wall 0.12 m farther off in the earlier scan, as the line's place predicts it
     facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
     stayed = WorldStatic(
         ranges, ranges + 0.12 / facing, directions, layout, drove, STATIC_TOLERANCE_M
     )
-    assert travelling_line(detection, stayed, pvf.params) is None
+    assert travelling_line(detection, stayed, pvf.params) == (None, None)
     standing = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
-    assert travelling_line(detection, standing, pvf.params) is None
-    assert travelling_line(detection, None, pvf.params) is None
+    assert travelling_line(detection, standing, pvf.params) == (None, None)
+    assert travelling_line(detection, None, pvf.params) == (None, None)
+
+
+def test_a_wall_does_not_travel_for_a_noisy_scanner_or_a_match_that_read_too_little_travel():
+    # the scan of the tests above, its strong line taken as a wall 1.8 m ahead that the
+    # sensor drove 0.12 m towards (the match right) or 0.24 m (the match read 0.12 m)
+    pvf, frames = _held_tilt_drive(26)
+    for _, scan, _ in frames:
+        detection = pvf.process(scan).lines
+    _, scan, _ = frames[-1]
+    layout = BeamLayout.of(scan)
+    ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
+    segments = detection.segments
+    strongest = strongest_confident(segments, detection.segment_scores, pvf.params)
+    normal_x, normal_y = segments.normals[strongest]
+    directions = np.full(len(scan), math.atan2(-normal_x, normal_y))
+    facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
+    drove = Motion(tx_m=-0.12)
+    # 6 cm of range noise on both scans: more than half of the wall's returns lie beyond
+    # the test's tolerance (5 cm at 1.8 m), their median within a centimetre or two
+    rng = np.random.default_rng(0)
+    noisy = WorldStatic(
+        ranges + rng.normal(0.0, 0.06, len(scan)),
+        ranges + 0.12 / facing + rng.normal(0.0, 0.06, len(scan)),
+        directions,
+        layout,
+        drove,
+        STATIC_TOLERANCE_M,
+    )
+    static, telling = noisy.at(segments.beams[segments.labels == strongest])
+    assert 0.5 < 1.0 - static[telling].mean() < 0.7  # counted, the returns would say "moved"
+    assert travelling_line(detection, noisy, pvf.params) == (None, None)
+    # the wall 0.24 m farther off in the earlier scan, the match 0.12 m: the wall lies
+    # 0.12 m nearer than the world's prediction, and 0.24 m nearer than where the earlier
+    # scan saw it, where a line that travels with the sensor would lie
+    under_read = WorldStatic(
+        ranges, ranges + 0.24 / facing, directions, layout, drove, STATIC_TOLERANCE_M
+    )
+    assert travelling_line(detection, under_read, pvf.params) == (None, None)
+
+
+def test_a_travelling_line_goes_on_travelling_where_nothing_tells_while_it_keeps_its_place():
+    # the scan of the test above; the world-static test tells nothing (the sensor moved
+    # too little along the beams since its earlier scan, as a slow drive past a far line
+    # leaves it on some scans), or tells that the line stayed put
+    pvf, frames = _held_tilt_drive(26)
+    for _, scan, _ in frames:
+        detection = pvf.process(scan).lines
+    _, scan, on_floor = frames[-1]
+    layout = BeamLayout.of(scan)
+    ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
+    segments = detection.segments
+    strongest = strongest_confident(segments, detection.segment_scores, pvf.params)
+    here = LinePlace.of(segments, strongest)
+    normal_x, normal_y = segments.normals[strongest]
+    directions = np.full(len(scan), math.atan2(-normal_x, normal_y))
+    untold = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
+    # the scan before, it travelled where this line lies: it goes on
+    moving, place = travelling_line(detection, untold, pvf.params, here)
+    assert moving is not None and moving[on_floor].mean() > 0.9 and place == here
+    # within twice the test's tolerance of it (0.1 m at 1.8 m), and no farther
+    near = dataclasses.replace(here, distance_m=here.distance_m + 0.08)
+    assert travelling_line(detection, untold, pvf.params, near)[0] is not None
+    for elsewhere in (
+        dataclasses.replace(here, distance_m=here.distance_m + 0.3),
+        dataclasses.replace(here, side=-here.side),
+        dataclasses.replace(here, lean_rad=here.lean_rad + 2.0 * TURN_TOLERANCE),
+    ):
+        assert travelling_line(detection, untold, pvf.params, elsewhere) == (None, None)
+    # a test that tells the line stayed put ends it, whatever travelled before
+    facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
+    drove = Motion(tx_m=-0.12)
+    stayed = WorldStatic(
+        ranges, ranges + 0.12 / facing, directions, layout, drove, STATIC_TOLERANCE_M
+    )
+    assert travelling_line(detection, stayed, pvf.params, here) == (None, None)
 
 
 def test_a_strong_line_is_the_floor_line_that_chose_the_side_not_a_face_beside_it():
