@@ -229,109 +229,113 @@ def test_a_tilt_held_while_driving_stays_removed_past_an_events_length():
     assert min(recall) > 0.9, np.round(recall, 2)
 
 
-def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_not():
-    # the scan 1.5 s into the held tilt above, its strong line 1.8 m ahead; the earlier
-    # scan of the world-static test saw the line where it is now (it travelled), or where
-    # a wall would have stood (it stayed), or the sensor stood (nothing tells)
+def _held_line():
+    """The scan 1.5 s into the held tilt of :func:`_held_tilt_drive`, its strong line 1.8
+    m ahead: the filter, the scan's line detection, its layout, its ranges (NaN where
+    invalid), its floor beams, the strongest confident segment, that segment's normal,
+    and per beam the line's direction (rad), for a world-static test to be built on."""
     pvf, frames = _held_tilt_drive(26)
     for _, scan, _ in frames:
         detection = pvf.process(scan).lines
     _, scan, on_floor = frames[-1]
-    layout = BeamLayout.of(scan)
-    ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
     segments = detection.segments
     strongest = strongest_confident(segments, detection.segment_scores, pvf.params)
     normal_x, normal_y = segments.normals[strongest]
-    directions = np.full(len(scan), math.atan2(-normal_x, normal_y))  # along the line
-    drove = Motion(tx_m=-0.12)  # the sensor 0.12 m on since the earlier scan
-    travelled = WorldStatic(ranges, ranges, directions, layout, drove, STATIC_TOLERANCE_M)
-    moving, place = travelling_line(detection, travelled, pvf.params)
-    assert moving is not None and moving[on_floor].mean() > 0.9 and not moving[~on_floor].any()
-    assert place == LinePlace.of(segments, strongest)
-    # a wall 0.12 m farther off in the earlier scan, as the line's place predicts it
-    facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
-    stayed = WorldStatic(
-        ranges, ranges + 0.12 / facing, directions, layout, drove, STATIC_TOLERANCE_M
+    return types.SimpleNamespace(
+        pvf=pvf,
+        detection=detection,
+        layout=BeamLayout.of(scan),
+        ranges=np.where(scan.valid_mask(), scan.ranges, np.nan),
+        on_floor=on_floor,
+        strongest=strongest,
+        normal=(normal_x, normal_y),
+        directions=np.full(len(scan), math.atan2(-normal_x, normal_y)),  # along the line
     )
-    assert travelling_line(detection, stayed, pvf.params) == (None, None)
-    standing = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
-    assert travelling_line(detection, standing, pvf.params) == (None, None)
-    assert travelling_line(detection, None, pvf.params) == (None, None)
+
+
+def test_a_line_travels_with_the_sensor_where_its_travel_tells_and_a_wall_does_not():
+    # the earlier scan of the world-static test saw the line where it is now (it
+    # travelled), or where a wall would have stood (it stayed), or the sensor stood
+    # (nothing tells)
+    held = _held_line()
+    detection, params, ranges = held.detection, held.pvf.params, held.ranges
+    drove = Motion(tx_m=-0.12)  # the sensor 0.12 m on since the earlier scan
+    moving, place = travelling_line(detection, _world_static(held, ranges, drove), params)
+    on_floor = held.on_floor
+    assert moving is not None and moving[on_floor].mean() > 0.9 and not moving[~on_floor].any()
+    assert place == LinePlace.of(detection.segments, held.strongest)
+    # a wall 0.12 m farther off in the earlier scan, as the line's place predicts it
+    stayed = _world_static(held, ranges + 0.12 / _facing(held), drove)
+    assert travelling_line(detection, stayed, params) == (None, None)
+    standing = _world_static(held, ranges, Motion())
+    assert travelling_line(detection, standing, params) == (None, None)
+    assert travelling_line(detection, None, params) == (None, None)
+
+
+def _world_static(held, earlier_m: np.ndarray, since: Motion, noise_m: float = 0.0):
+    """A world-static test of the held line's scan against an earlier scan that saw
+    ``earlier_m`` per beam, the sensor moved by ``since`` between them; with ``noise_m``
+    of range noise (seeded) on both scans' ranges."""
+    rng = np.random.default_rng(0)
+    return WorldStatic(
+        held.ranges + rng.normal(0.0, noise_m, len(held.ranges)),
+        earlier_m + rng.normal(0.0, noise_m, len(held.ranges)),
+        held.directions,
+        held.layout,
+        since,
+        STATIC_TOLERANCE_M,
+    )
+
+
+def _facing(held) -> np.ndarray:
+    """Per beam, the cosine between the beam and the held line's normal."""
+    normal_x, normal_y = held.normal
+    return np.abs(held.layout.cos * normal_x + held.layout.sin * normal_y)
 
 
 def test_a_wall_does_not_travel_for_a_noisy_scanner_or_a_match_that_read_too_little_travel():
-    # the scan of the tests above, its strong line taken as a wall 1.8 m ahead that the
-    # sensor drove 0.12 m towards (the match right) or 0.24 m (the match read 0.12 m)
-    pvf, frames = _held_tilt_drive(26)
-    for _, scan, _ in frames:
-        detection = pvf.process(scan).lines
-    _, scan, _ = frames[-1]
-    layout = BeamLayout.of(scan)
-    ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
-    segments = detection.segments
-    strongest = strongest_confident(segments, detection.segment_scores, pvf.params)
-    normal_x, normal_y = segments.normals[strongest]
-    directions = np.full(len(scan), math.atan2(-normal_x, normal_y))
-    facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
-    drove = Motion(tx_m=-0.12)
+    # the strong line taken as a wall 1.8 m ahead that the sensor drove 0.12 m towards
+    # (the match right) or 0.24 m (the match read 0.12 m)
+    held = _held_line()
+    detection, params, ranges = held.detection, held.pvf.params, held.ranges
+    facing, drove = _facing(held), Motion(tx_m=-0.12)
     # 6 cm of range noise on both scans: more than half of the wall's returns lie beyond
     # the test's tolerance (5 cm at 1.8 m), their median within a centimetre or two
-    rng = np.random.default_rng(0)
-    noisy = WorldStatic(
-        ranges + rng.normal(0.0, 0.06, len(scan)),
-        ranges + 0.12 / facing + rng.normal(0.0, 0.06, len(scan)),
-        directions,
-        layout,
-        drove,
-        STATIC_TOLERANCE_M,
-    )
-    static, telling = noisy.at(segments.beams[segments.labels == strongest])
+    noisy = _world_static(held, ranges + 0.12 / facing, drove, noise_m=0.06)
+    segments = detection.segments
+    static, telling = noisy.at(segments.beams[segments.labels == held.strongest])
     assert 0.5 < 1.0 - static[telling].mean() < 0.7  # counted, the returns would say "moved"
-    assert travelling_line(detection, noisy, pvf.params) == (None, None)
+    assert travelling_line(detection, noisy, params) == (None, None)
     # the wall 0.24 m farther off in the earlier scan, the match 0.12 m: the wall lies
     # 0.12 m nearer than the world's prediction, and 0.24 m nearer than where the earlier
     # scan saw it, where a line that travels with the sensor would lie
-    under_read = WorldStatic(
-        ranges, ranges + 0.24 / facing, directions, layout, drove, STATIC_TOLERANCE_M
-    )
-    assert travelling_line(detection, under_read, pvf.params) == (None, None)
+    under_read = _world_static(held, ranges + 0.24 / facing, drove)
+    assert travelling_line(detection, under_read, params) == (None, None)
 
 
 def test_a_travelling_line_goes_on_travelling_where_nothing_tells_while_it_keeps_its_place():
-    # the scan of the test above; the world-static test tells nothing (the sensor moved
-    # too little along the beams since its earlier scan, as a slow drive past a far line
-    # leaves it on some scans), or tells that the line stayed put
-    pvf, frames = _held_tilt_drive(26)
-    for _, scan, _ in frames:
-        detection = pvf.process(scan).lines
-    _, scan, on_floor = frames[-1]
-    layout = BeamLayout.of(scan)
-    ranges = np.where(scan.valid_mask(), scan.ranges, np.nan)
-    segments = detection.segments
-    strongest = strongest_confident(segments, detection.segment_scores, pvf.params)
-    here = LinePlace.of(segments, strongest)
-    normal_x, normal_y = segments.normals[strongest]
-    directions = np.full(len(scan), math.atan2(-normal_x, normal_y))
-    untold = WorldStatic(ranges, ranges, directions, layout, Motion(), STATIC_TOLERANCE_M)
+    # the world-static test tells nothing (the sensor moved too little along the beams
+    # since its earlier scan, as a slow drive past a far line leaves it on some scans), or
+    # tells that the line stayed put
+    held = _held_line()
+    detection, params, ranges = held.detection, held.pvf.params, held.ranges
+    here = LinePlace.of(detection.segments, held.strongest)
+    untold = _world_static(held, ranges, Motion())
     # the scan before, it travelled where this line lies: it goes on
-    moving, place = travelling_line(detection, untold, pvf.params, here)
-    assert moving is not None and moving[on_floor].mean() > 0.9 and place == here
+    moving, place = travelling_line(detection, untold, params, here)
+    assert moving is not None and moving[held.on_floor].mean() > 0.9 and place == here
     # within twice the test's tolerance of it (0.1 m at 1.8 m), and no farther
     near = dataclasses.replace(here, distance_m=here.distance_m + 0.08)
-    assert travelling_line(detection, untold, pvf.params, near)[0] is not None
+    assert travelling_line(detection, untold, params, near)[0] is not None
     for elsewhere in (
         dataclasses.replace(here, distance_m=here.distance_m + 0.3),
         dataclasses.replace(here, side=-here.side),
         dataclasses.replace(here, lean_rad=here.lean_rad + 2.0 * TURN_TOLERANCE),
     ):
-        assert travelling_line(detection, untold, pvf.params, elsewhere) == (None, None)
+        assert travelling_line(detection, untold, params, elsewhere) == (None, None)
     # a test that tells the line stayed put ends it, whatever travelled before
-    facing = np.abs(layout.cos * normal_x + layout.sin * normal_y)
-    drove = Motion(tx_m=-0.12)
-    stayed = WorldStatic(
-        ranges, ranges + 0.12 / facing, directions, layout, drove, STATIC_TOLERANCE_M
-    )
-    assert travelling_line(detection, stayed, pvf.params, here) == (None, None)
+    stayed = _world_static(held, ranges + 0.12 / _facing(held), Motion(tx_m=-0.12))
+    assert travelling_line(detection, stayed, params, here) == (None, None)
 
 
 def test_a_strong_line_is_the_floor_line_that_chose_the_side_not_a_face_beside_it():
