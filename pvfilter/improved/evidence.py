@@ -234,8 +234,8 @@ class WorldStatic:
 
     def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
         """For ``beams``: how far each return lies from where a surface fixed in the world
-        would lie, and from where the earlier scan saw it on its beam (:class:`Offsets`;
-        the arguments as :meth:`at`'s)."""
+        would lie, whether the test tells, and its tolerance (:class:`Offsets`; the
+        arguments as :meth:`at`'s)."""
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
         angle = self.directions.take(beams)
@@ -258,7 +258,7 @@ class WorldStatic:
             telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
-        return Offsets(ranges - (earlier + moved), ranges - earlier, telling, tolerance)
+        return Offsets(ranges - (earlier + moved), telling, tolerance)
 
 
 class Offsets(NamedTuple):
@@ -266,7 +266,6 @@ class Offsets(NamedTuple):
     asked about, m along the beam; NaN where either scan saw nothing there."""
 
     world_m: np.ndarray  # from where a surface fixed in the world would lie now
-    sensor_m: np.ndarray  # from where the earlier scan saw it (a surface fixed to the sensor)
     telling: np.ndarray  # bool: the sensor's motion (or a standing robot's pitch) tells
     tolerance_m: np.ndarray  # how near its prediction a return lies
 

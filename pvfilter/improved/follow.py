@@ -264,14 +264,14 @@ def travelling_line(
 
     The line travelled where at least half of its returns tell (the sensor moved along
     their beams by more than the world-static test's tolerance twice,
-    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`) and the median of those lies
-    farther than the tolerance from where the earlier scan, moved by the sensor's
-    travel, puts a surface fixed in the world (:func:`_left_its_place`). Where too
-    few tell, it still travels if it keeps the place of the line that ``travelled`` in
-    the scan before (:meth:`LinePlace.kept_by`, within twice the test's tolerance): far
-    out, the tolerance grows with the range, and a robot driving at a few decimetres a
-    second tells a floor line 8 m off on some scans only. A scan whose test tells that the
-    line stayed put, or that has no confident line, ends it.
+    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`) and the median of those
+    lies farther than the tolerance from where the earlier scan, moved by the sensor's
+    travel, puts a surface fixed in the world (:func:`_left_its_place`). Where too few
+    tell, it still travels if it keeps the place of the line that ``travelled`` in the
+    scan before (:meth:`LinePlace.kept_by`, within twice the test's tolerance): far out,
+    the tolerance grows with the range, and a robot driving at a few decimetres a second
+    tells a floor line 8 m off on some scans only. A scan whose test tells that the line
+    stayed put, or that has no confident line, ends it.
 
     Args:
         detection: the scan's line detection.
@@ -291,9 +291,7 @@ def travelling_line(
     offsets = static.offsets(beams)
     telling = offsets.telling
     if np.count_nonzero(telling) >= TOLD_SHARE * beams.size:
-        if not _travelled_with_the_sensor(
-            offsets.world_m[telling], offsets.sensor_m[telling], offsets.tolerance_m[telling]
-        ):
+        if not _left_its_place(offsets.world_m[telling], offsets.tolerance_m[telling]):
             return None, None
     elif travelled is None or not travelled.kept_by(
         place, 2.0 * (static.tolerance_m + 0.01 * place.distance_m)
@@ -304,23 +302,13 @@ def travelling_line(
     return travelling, place
 
 
-def _travelled_with_the_sensor(
-    world_m: np.ndarray, sensor_m: np.ndarray, tolerance_m: np.ndarray
-) -> bool:
-    """A line whose returns lie ``world_m`` from where a surface fixed in the world would,
-    and ``sensor_m`` from where the earlier scan saw them (one fixed to the sensor; NaN:
-    either scan saw nothing there), travelled with the sensor: the median of the first
-    lies farther than the median tolerance, and farther than that of the second.
-
-    Medians, not counts of returns beyond the tolerance: a scanner with 5 cm of range
-    noise scatters about half of a wall's returns beyond it, scan after scan, while their
-    median stays within a centimetre. And the line must lie nearer where a surface fixed
-    to the sensor would than where one fixed in the world would: where the scan match
-    reads less travel than the robot drove (floor lines hiding the walls along it), a
-    wall ahead comes nearer than the world's prediction, but nearer still than where the
-    earlier scan saw it, where a travelling line stays."""
-    world, sensor = world_m[~np.isnan(world_m)], sensor_m[~np.isnan(sensor_m)]
+def _left_its_place(world_m: np.ndarray, tolerance_m: np.ndarray) -> bool:
+    """A line whose returns lie ``world_m`` from where a surface fixed in the world would
+    (NaN: either scan saw nothing there) left its place: their median lies farther than
+    the median tolerance. A median, not a count of returns beyond the tolerance: a
+    scanner with 5 cm of range noise scatters about half of a wall's returns beyond it,
+    scan after scan, while their median stays within a centimetre."""
+    world = world_m[~np.isnan(world_m)]
     if not world.size:  # (the earlier scan saw nothing where the line lies: it was not there)
         return False
-    world_off = abs(float(np.median(world)))
-    return world_off > float(np.median(tolerance_m)) and abs(float(np.median(sensor))) < world_off
+    return abs(float(np.median(world))) > float(np.median(tolerance_m))
