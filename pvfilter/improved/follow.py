@@ -37,10 +37,12 @@ Two things make the question come in time. The level view keeps a clock per beam
 its beams settle onto returns that stood in front of them for ``max_event_s``; a line's
 beams that came in front a scan or two before the scans counted as tilted settle first,
 and the line, no longer new there, may be no longer confident when the scans' own clock
-asks. So the filter asks whenever a beam would settle in a tilted scan. And the test's
-tolerance grows with the range: a robot driving at 0.5-0.8 m/s tells a floor line 8 m
-off on some scans only (twice the tolerance there is 0.23 m, and the earlier scan lies
-0.3 s back on some scans, 0.4 s on others). So a line once found travelling goes on
+asks. So the filter asks whenever a beam would settle in a tilted scan, once the scans
+have been tilted for the world-static test's baseline (before, the test's earlier scan
+was level, and a line not in it at all left its place as a travelling one does). And the
+test's tolerance grows with the range: a robot driving at 0.5-0.9 m/s tells a floor line
+8 m off on some scans only (twice the tolerance there is 0.23 m, and the earlier scan
+lies 0.3 s back on some scans, 0.4 s on others). So a line once found travelling goes on
 travelling while the test cannot tell, as long as each scan's line keeps the place of
 the scan before's (:class:`LinePlace`: the same side, its distance within twice the
 test's tolerance, its direction within ``TURN_TOLERANCE``); a scan whose test tells that
