@@ -216,6 +216,11 @@ class WorldStatic:
         most_mps2 = 2.0 * (reach_m + self.first_speed_mps * span) / (span * (span - first))
         return math.atan(most_mps2 / GRAVITY_MPS2)
 
+    def tolerance_at(self, range_m: np.ndarray | float) -> np.ndarray | float:
+        """How near its prediction a static return ``range_m`` away lies, m:
+        ``tolerance_m`` plus 1 % of the range."""
+        return self.tolerance_m + 0.01 * range_m
+
     def at(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -250,7 +255,7 @@ class WorldStatic:
         moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
-        tolerance = self.tolerance_m + 0.01 * ranges
+        tolerance = self.tolerance_at(ranges)
         twice = 2.0 * tolerance  # farther than this tells
         telling = (np.abs(moved) > twice) & facing_ok
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch

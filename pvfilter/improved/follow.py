@@ -31,22 +31,22 @@ place) still counts as tilted, and the view does not settle onto that line. A re
 tells where the sensor moved along its beam by more than twice the test's tolerance
 within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of about 0.3 m/s. A robot
 that stands or creeps tells nothing by its travel, and the event ends at ``max_event_s``
-as before.
+as before, unless the test told before that its line travels (below).
 
 Two things make the question come in time. The level view keeps a clock per beam, and
 its beams settle onto returns that stood in front of them for ``max_event_s``; a line's
 beams that came in front a scan or two before the scans counted as tilted settle first,
 and the line, no longer new there, may be no longer confident when the scans' own clock
-asks. So the filter asks whenever a beam would settle in a tilted scan, once the scans
-have been tilted for the world-static test's baseline (before, the test's earlier scan
-was level, and a line not in it at all left its place as a travelling one does). And the
-test's tolerance grows with the range: a robot driving at 0.5-0.9 m/s tells a floor line
-8 m off on some scans only (twice the tolerance there is 0.23 m, and the earlier scan
-lies 0.3 s back on some scans, 0.4 s on others). So a line once found travelling goes on
-travelling while the test cannot tell, as long as each scan's line keeps the place of
-the scan before's (:class:`LinePlace`: the same side, its distance within twice the
-test's tolerance, its direction within ``TURN_TOLERANCE``); a scan whose test tells that
-it stayed put ends it.
+asks. So the filter asks whenever a beam would settle in a tilted scan, once the
+world-static test's earlier scan lies within the event (before, a line not in that scan
+at all left its place as a travelling one does). And the test's tolerance grows with the
+range: a robot driving at 0.5-0.9 m/s tells a floor line 8 m off on some scans only
+(twice the tolerance there is 0.22 m, and the earlier scan lies 0.3 s back on some
+scans, 0.4 s on others). So a line the test told travels goes on travelling while the
+test cannot tell, as long as it keeps the place it had then (:class:`LinePlace`: the
+same side, its distance within twice the test's tolerance, its direction within
+``TURN_TOLERANCE``); a wall approached too slowly to tell leaves that place as the
+travel adds up, and a scan whose test tells that the line stayed put ends it.
 
 The hold lasts as long as the scans show such a line: a line that travels with the
 sensor is no wall, but it may be something that moves with the robot (a cart it follows
@@ -259,27 +259,34 @@ def travelling_line(
     params: ImprovedParams,
     travelled: LinePlace | None = None,
 ) -> tuple[np.ndarray | None, LinePlace | None]:
-    """Per beam: it lies on the scan's strongest confident floor line, and that line has
-    travelled with the sensor (None: no such line, or the sensor's travel tells too
-    little of it); and the line's place, to be passed as ``travelled`` with the next scan
-    (None: it did not travel).
+    """Whether the scan's strongest confident floor line travelled with the sensor.
 
-    The line travelled where at least half of its returns tell (the sensor moved along
-    their beams by more than the world-static test's tolerance twice,
-    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`) and the median of those
+    It travelled where at least half of its returns tell, against a return the earlier
+    scan saw on the same beam (the sensor moved along their beams by more than the
+    world-static test's tolerance twice,
+    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`), and the median of those
     lies farther than the tolerance from where the earlier scan, moved by the sensor's
     travel, puts a surface fixed in the world (:func:`_left_its_place`). Where too few
-    tell, it still travels if it keeps the place of the line that ``travelled`` in the
-    scan before (:meth:`LinePlace.kept_by`, within twice the test's tolerance): far out,
-    the tolerance grows with the range, and a robot driving at a few decimetres a second
-    tells a floor line 8 m off on some scans only. A scan whose test tells that the line
-    stayed put, or that has no confident line, ends it.
+    tell, it still travels if it keeps the place it had when the test last told that it
+    travelled (``travelled``: :meth:`LinePlace.kept_by`, within twice the test's
+    tolerance at its distance): the tolerance grows with the range, and a robot driving
+    at a few decimetres a second tells a floor line 8 m off on some scans only. A wall
+    that the sensor comes nearer to or recedes from too slowly to tell leaves that place
+    as the travel adds up. A scan whose test tells that the line stayed put, that has no
+    confident line, or that has no earlier scan to compare with (``static`` None: a
+    fresh start, a scan the filter coasted through) ends it.
 
     Args:
         detection: the scan's line detection.
         static: the world-static test against an earlier scan (None: none).
         params: ``down_side_min_new`` (what makes a line confident).
-        travelled: where the line found travelling in the scan before lay (None: none was).
+        travelled: where the line lay when the test last told it travelled, as the scan
+            before returned it (None: it did not travel).
+
+    Returns:
+        Per beam, the line's beams (None: it did not travel); and the place to pass as
+        ``travelled`` with the next scan: this scan's line's where the test told, the
+        one passed in where the line kept it (None: it did not travel).
     """
     if static is None:
         return None, None
@@ -287,18 +294,19 @@ def travelling_line(
     strongest = strongest_confident(segments, detection.segment_scores, params)
     if strongest is None:
         return None, None
-    on_line = segments.labels == strongest
-    beams = segments.beams[on_line]
+    beams = segments.beams[segments.labels == strongest]
     place = LinePlace.of(segments, strongest)
     offsets = static.offsets(beams)
-    telling = offsets.telling
-    if np.count_nonzero(telling) >= TOLD_SHARE * beams.size:
-        if not _left_its_place(offsets.world_m[telling], offsets.tolerance_m[telling]):
+    told = offsets.telling & ~np.isnan(offsets.world_m)  # (NaN: the earlier scan saw nothing)
+    if np.count_nonzero(told) >= TOLD_SHARE * beams.size:
+        if not _left_its_place(offsets.world_m[told], offsets.tolerance_m[told]):
             return None, None
     elif travelled is None or not travelled.kept_by(
-        place, 2.0 * (static.tolerance_m + 0.01 * place.distance_m)
+        place, 2.0 * static.tolerance_at(place.distance_m)
     ):
         return None, None
+    else:
+        place = travelled  # (kept, not told: the place stays the one the test last told)
     travelling = np.zeros(len(detection.scan), dtype=bool)
     travelling[beams] = True
     return travelling, place
@@ -306,11 +314,8 @@ def travelling_line(
 
 def _left_its_place(world_m: np.ndarray, tolerance_m: np.ndarray) -> bool:
     """A line whose returns lie ``world_m`` from where a surface fixed in the world would
-    (NaN: either scan saw nothing there) left its place: their median lies farther than
-    the median tolerance. A median, not a count of returns beyond the tolerance: a
-    scanner with 5 cm of range noise scatters about half of a wall's returns beyond it,
-    scan after scan, while their median stays within a centimetre."""
-    world = world_m[~np.isnan(world_m)]
-    if not world.size:  # (the earlier scan saw nothing where the line lies: it was not there)
-        return False
-    return abs(float(np.median(world))) > float(np.median(tolerance_m))
+    (m, all finite) left its place: their median lies farther than the median of their
+    ``tolerance_m``. A median, not a count of returns beyond the tolerance: a scanner with
+    5 cm of range noise scatters about half of a wall's returns beyond it, scan after
+    scan, while their median stays within a centimetre."""
+    return abs(float(np.median(world_m))) > float(np.median(tolerance_m))
