@@ -216,6 +216,11 @@ class WorldStatic:
         most_mps2 = 2.0 * (reach_m + self.first_speed_mps * span) / (span * (span - first))
         return math.atan(most_mps2 / GRAVITY_MPS2)
 
+    def tolerance_at(self, range_m: np.ndarray | float) -> np.ndarray | float:
+        """How near its prediction a static return ``range_m`` away lies, m:
+        ``tolerance_m`` plus 1 % of the range."""
+        return self.tolerance_m + 0.01 * range_m
+
     def at(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -228,6 +233,14 @@ class WorldStatic:
                 (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
                 tells).
         """
+        offsets = self.offsets(beams, floor_shift_m)
+        static = offsets.telling & (np.abs(offsets.world_m) <= offsets.tolerance_m)  # NaN: no
+        return static, offsets.telling
+
+    def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
+        """For ``beams``: how far each return lies from where a surface fixed in the world
+        would lie, whether the test tells, and its tolerance (:class:`Offsets`; the
+        arguments as :meth:`at`'s)."""
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
         angle = self.directions.take(beams)
@@ -242,7 +255,7 @@ class WorldStatic:
         moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
         ranges = self.ranges.take(beams)
-        tolerance = self.tolerance_m + 0.01 * ranges
+        tolerance = self.tolerance_at(ranges)
         twice = 2.0 * tolerance  # farther than this tells
         telling = (np.abs(moved) > twice) & facing_ok
         if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
@@ -250,8 +263,16 @@ class WorldStatic:
             telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
-        static = telling & (np.abs(ranges - (earlier + moved)) <= tolerance)  # NaN: False
-        return static, telling
+        return Offsets(ranges - (earlier + moved), telling, tolerance)
+
+
+class Offsets(NamedTuple):
+    """Where returns lie against an earlier scan (:meth:`WorldStatic.offsets`), per beam
+    asked about, m along the beam; NaN where either scan saw nothing there."""
+
+    world_m: np.ndarray  # from where a surface fixed in the world would lie now
+    telling: np.ndarray  # bool: the sensor's motion (or a standing robot's pitch) tells
+    tolerance_m: np.ndarray  # how near its prediction a return lies
 
 
 class Earlier(NamedTuple):

@@ -43,7 +43,7 @@ from pvfilter.improved.evidence import (
     free_space_evidence,
     free_space_gaps,
 )
-from pvfilter.improved.follow import FloorFollower, travelling_line
+from pvfilter.improved.follow import FloorFollower, LinePlace, travelling_line
 from pvfilter.improved.imu import Attitude, AttitudeTrack
 from pvfilter.improved.memory import LevelMemory, LevelView
 from pvfilter.improved.motion import MIN_PAIRS, Motion
@@ -176,6 +176,7 @@ class ImprovedPitchVariationFilter:
         self._recent = RecentScans(STATIC_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
+        self._travelled: LinePlace | None = None  # the floor line last found travelling
         self._body = BodyBeams()
         self._held_body: np.ndarray | None = None  # the beams the body stays on (body.py)
         self._doubt = ViewDoubt()
@@ -492,9 +493,7 @@ class ImprovedPitchVariationFilter:
         params = self.params
         was_in_event = 0.0 < self._tilted_s <= params.max_event_s
         tilted = detection.tilted or coast
-        travelling = None  # past a pitch event's length: a floor line that travels with the sensor
-        if tilted and self._tilted_s + prepared.dt > params.max_event_s:
-            travelling = travelling_line(detection, found.static, self._line_params)
+        travelling = self._travelling(found, tilted, prepared.dt)
         level = self._level(tilted, prepared.dt, travelling is not None)
         # the doubt of a step into or out of a pitch event stays; after it the view comes
         # closer behind lines across the travel at line_shrink_mps plus the drive
@@ -541,6 +540,35 @@ class ImprovedPitchVariationFilter:
                 body = body & ~(held & behind)  # (NaN, unknown, compares False)
             self._memory.forget(body)
         self._recent.add(scan.stamp, found.level_ranges)
+
+    def _travelling(self, found: _Found, tilted: bool, dt: float) -> np.ndarray | None:
+        """Per beam: on the scan's floor line that travels with the sensor (None: none, or
+        not asked; :func:`~pvfilter.improved.follow.travelling_line`).
+
+        Asked of a tilted scan past ``max_event_s``, where the scans would count as level
+        again; and before, where a beam of the view would settle onto what stood in front
+        of it that long (:func:`_settling`): a line whose beams came in front before the
+        scans counted as tilted settles there first, and may no longer be confident when
+        the scans' clock asks. Before, only once the world-static test's earlier scan lies
+        within the event: a line not in that scan at all left its place as a travelling
+        one does. The verdict of a scan that was not asked is not carried on."""
+        params, static = self.params, found.static
+        asked = tilted and (
+            self._tilted_s + dt > params.max_event_s
+            or (
+                static is not None
+                and static.span_s + SAME_INSTANT_S < self._tilted_s + dt  # (after the
+                # last level scan: the tilted clock started at its stamp)
+                and _settling(found.view, dt, params.max_event_s)
+            )
+        )
+        if not asked:
+            self._travelled = None
+            return None
+        travelling, self._travelled = travelling_line(
+            found.detection, static, self._line_params, self._travelled
+        )
+        return travelling
 
     def _across(self, segments: Segments, count: int) -> np.ndarray | None:
         """Per beam: it lies on a segment across the direction of travel with at least
@@ -740,6 +768,7 @@ class ImprovedPitchVariationFilter:
         self._ego.reset()
         self._recent.clear()
         self._follower.reset()
+        self._travelled = None
         self._doubt.reset()
         self._tilted_s = 0.0
 
@@ -811,3 +840,13 @@ def _shows_tilt(lines_tilted: bool, attitude: Attitude | None) -> bool:
     """The scan plane was tilted: a strong candidate line, or the IMU (if any) shows it
     tilted beyond its band."""
     return lines_tilted or (attitude is not None and attitude.tilted)
+
+
+def _settling(view: LevelView | None, dt: float, max_event_s: float) -> bool:
+    """Some beam's clock in the level ``view`` passes ``max_event_s`` with this step of
+    ``dt`` s: where its return still stands in front of the view, the view settles onto
+    it (:meth:`~pvfilter.improved.memory.LevelMemory.update`) unless it lies on a floor
+    line that travels with the sensor. Each beam keeps its own clock, so a line whose
+    beams came in front a scan or two before the scans counted as tilted settles there
+    first, and the scans' own clock would ask too late."""
+    return view is not None and float(view.ahead_s.max(initial=0.0)) + dt > max_event_s

@@ -20,18 +20,33 @@ reappears where a floor line was, taken for one, stays put in the world; followi
 would hold the view off it, and keep it new, for as long as it is seen.
 
 A pitch event ends within ``max_event_s`` (the robot levels), and past it the scans are
-taken as level again, so that a wall taken for a floor line cannot freeze the level view.
-A tilt can last longer: a robot held leaning while it drives on, a body that follows a
-ramp's slope. Its floor line then **travels with the sensor**: it keeps its distance
-while the sensor moves through the world, where a wall stays put and comes nearer or
-recedes by the travel. So a scan past ``max_event_s`` whose strongest confident line left
-its place in the world since the world-static test's earlier scan
-(:func:`travelling_line`: at least half of its returns tell, and at least
-``TRAVELLED_SHARE`` of those moved) still counts as tilted, and the view does not settle
-onto that line. A return tells where the sensor moved along its beam by more than twice
-the test's tolerance within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of
-about 0.3 m/s. A robot that stands or creeps tells nothing by its travel, and the event
-ends at ``max_event_s`` as before.
+taken as level again, so that a wall taken for a floor line cannot freeze the level
+view. A tilt can last longer: a robot held leaning while it drives on, a body that
+follows a ramp's slope. Its floor line then **travels with the sensor**: it keeps its
+distance while the sensor moves through the world, where a wall stays put and comes
+nearer or recedes by the travel. So a scan past ``max_event_s`` whose strongest
+confident line left its place in the world since the world-static test's earlier scan
+(:func:`travelling_line`: at least half of its returns tell, and their median left the
+place) still counts as tilted, and the view does not settle onto that line. A return
+tells where the sensor moved along its beam by more than twice the test's tolerance
+within ``STATIC_BASELINE_S``: for a line 1.8 m ahead, a drive of about 0.3 m/s. A robot
+that stands or creeps tells nothing by its travel, and the event ends at ``max_event_s``
+as before, unless the test told before that its line travels (below).
+
+Two things make the question come in time. The level view keeps a clock per beam, and
+its beams settle onto returns that stood in front of them for ``max_event_s``; a line's
+beams that came in front a scan or two before the scans counted as tilted settle first,
+and the line, no longer new there, may be no longer confident when the scans' own clock
+asks. So the filter asks whenever a beam would settle in a tilted scan, once the
+world-static test's earlier scan lies within the event (before, a line not in that scan
+at all left its place as a travelling one does). And the test's tolerance grows with the
+range: a robot driving at 0.5-0.9 m/s tells a floor line 8 m off on some scans only
+(twice the tolerance there is 0.22 m, and the earlier scan lies 0.3 s back on some
+scans, 0.4 s on others). So a line the test told travels goes on travelling while the
+test cannot tell, as long as it keeps the place it had then (:class:`LinePlace`: the
+same side, its distance within twice the test's tolerance, its direction within
+``TURN_TOLERANCE``); a wall approached too slowly to tell leaves that place as the
+travel adds up, and a scan whose test tells that the line stayed put ends it.
 
 The hold lasts as long as the scans show such a line: a line that travels with the
 sensor is no wall, but it may be something that moves with the robot (a cart it follows
@@ -54,12 +69,44 @@ from pvfilter.improved.medians import median_of_few
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.scoring import HeldLine, strongest_confident
+from pvfilter.improved.segmentation import Segments
 
 TOLD_SHARE = 0.5  # of a line's returns, the share whose place the sensor's travel must tell
-TRAVELLED_SHARE = 0.5  # of those, the share that must have left it for the line to travel
-# with the sensor (a wall: none; a confident line's score already holds few that stayed)
 FOLLOW_S = 0.3  # s: how long after a scan with a strong line its floor line is followed
 # (three scans at 10 Hz; a pitch event's scans come in a run)
+
+
+@dataclasses.dataclass(frozen=True)
+class LinePlace:
+    """Where a floor line lay in the sensor frame.
+
+    Attributes:
+        side: +1 ahead, -1 behind.
+        distance_m: its distance from the sensor, m.
+        lean_rad: the direction of its normal from the sensor's x axis, rad
+            (:func:`~pvfilter.improved.geometry.line_lean`).
+    """
+
+    side: int
+    distance_m: float
+    lean_rad: float
+
+    @classmethod
+    def of(cls, segments: Segments, segment: int) -> LinePlace:
+        """The place of ``segments``' line ``segment``."""
+        normal_x, normal_y = segments.normals[segment].tolist()
+        side = 1 if segments.centroids[segment, 0] >= 0.0 else -1
+        return cls(side, float(segments.distances[segment]), float(line_lean(normal_y, normal_x)))
+
+    def kept_by(self, place: LinePlace, tolerance_m: float) -> bool:
+        """``place`` is this one, as far as the world-static test could tell them apart:
+        the same side, the distance within ``tolerance_m``, the direction within
+        ``TURN_TOLERANCE``."""
+        return (
+            place.side == self.side
+            and abs(place.distance_m - self.distance_m) <= tolerance_m
+            and abs(float(folded(place.lean_rad - self.lean_rad))) <= TURN_TOLERANCE
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,10 +153,15 @@ class StrongLine:
         # the most new points; of those, the most points: the best measured direction
         new_counts = np.where(on_side, scores.new_counts, -1.0)
         strongest = int(np.lexsort((segments.sizes, new_counts))[-1])
-        distance = float(segments.distances[strongest])
-        normal_x, normal_y = segments.normals[strongest].tolist()
-        direction = float(line_lean(normal_y, normal_x))
-        return cls(detection.down_side, tilt, distance, direction, detection.scan.stamp, pose)
+        place = LinePlace.of(segments, strongest)
+        return cls(
+            detection.down_side,
+            tilt,
+            place.distance_m,
+            place.lean_rad,
+            detection.scan.stamp,
+            pose,
+        )
 
 
 class FloorFollower:
@@ -202,36 +254,68 @@ class FloorFollower:
 
 
 def travelling_line(
-    detection: LineDetection, static: WorldStatic | None, params: ImprovedParams
-) -> np.ndarray | None:
-    """Per beam: it lies on the scan's strongest confident floor line, and that line has
-    travelled with the sensor (None: no such line, or the sensor's travel tells too
-    little of it).
+    detection: LineDetection,
+    static: WorldStatic | None,
+    params: ImprovedParams,
+    travelled: LinePlace | None = None,
+) -> tuple[np.ndarray | None, LinePlace | None]:
+    """Whether the scan's strongest confident floor line travelled with the sensor.
 
-    The line travelled where at least half of its returns tell (the sensor moved along
-    their beams by more than the world-static test's tolerance twice,
-    :meth:`~pvfilter.improved.evidence.WorldStatic.at`) and at least
-    ``TRAVELLED_SHARE`` of those did not stay where the earlier scan saw them.
+    It travelled where at least half of its returns tell, against a return the earlier
+    scan saw on the same beam (the sensor moved along their beams by more than the
+    world-static test's tolerance twice,
+    :meth:`~pvfilter.improved.evidence.WorldStatic.offsets`), and the median of those
+    lies farther than the tolerance from where the earlier scan, moved by the sensor's
+    travel, puts a surface fixed in the world (:func:`_left_its_place`). Where too few
+    tell, it still travels if it keeps the place it had when the test last told that it
+    travelled (``travelled``: :meth:`LinePlace.kept_by`, within twice the test's
+    tolerance at its distance): the tolerance grows with the range, and a robot driving
+    at a few decimetres a second tells a floor line 8 m off on some scans only. A wall
+    that the sensor comes nearer to or recedes from too slowly to tell leaves that place
+    as the travel adds up. A scan whose test tells that the line stayed put, that has no
+    confident line, or that has no earlier scan to compare with (``static`` None: a
+    fresh start, a scan the filter coasted through) ends it.
 
     Args:
         detection: the scan's line detection.
         static: the world-static test against an earlier scan (None: none).
         params: ``down_side_min_new`` (what makes a line confident).
+        travelled: where the line lay when the test last told it travelled, as the scan
+            before returned it (None: it did not travel).
+
+    Returns:
+        Per beam, the line's beams (None: it did not travel); and the place to pass as
+        ``travelled`` with the next scan: this scan's line's where the test told, the
+        one passed in where the line kept it (None: it did not travel).
     """
     if static is None:
-        return None
+        return None, None
     segments = detection.segments
     strongest = strongest_confident(segments, detection.segment_scores, params)
     if strongest is None:
-        return None
-    on_line = segments.labels == strongest
-    beams = segments.beams[on_line]
-    stayed, telling = static.at(beams)
-    told = np.count_nonzero(telling)
-    if told < TOLD_SHARE * beams.size:
-        return None
-    if np.count_nonzero(telling & ~stayed) < TRAVELLED_SHARE * told:
-        return None
+        return None, None
+    beams = segments.beams[segments.labels == strongest]
+    place = LinePlace.of(segments, strongest)
+    offsets = static.offsets(beams)
+    told = offsets.telling & ~np.isnan(offsets.world_m)  # (NaN: the earlier scan saw nothing)
+    if np.count_nonzero(told) >= TOLD_SHARE * beams.size:
+        if not _left_its_place(offsets.world_m[told], offsets.tolerance_m[told]):
+            return None, None
+    elif travelled is None or not travelled.kept_by(
+        place, 2.0 * static.tolerance_at(place.distance_m)
+    ):
+        return None, None
+    else:
+        place = travelled  # (kept, not told: the place stays the one the test last told)
     travelling = np.zeros(len(detection.scan), dtype=bool)
     travelling[beams] = True
-    return travelling
+    return travelling, place
+
+
+def _left_its_place(world_m: np.ndarray, tolerance_m: np.ndarray) -> bool:
+    """A line whose returns lie ``world_m`` from where a surface fixed in the world would
+    (m, all finite) left its place: their median lies farther than the median of their
+    ``tolerance_m``. A median, not a count of returns beyond the tolerance: a scanner with
+    5 cm of range noise scatters about half of a wall's returns beyond it, scan after
+    scan, while their median stays within a centimetre."""
+    return abs(float(np.median(world_m))) > float(np.median(tolerance_m))
