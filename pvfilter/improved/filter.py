@@ -546,12 +546,12 @@ class ImprovedPitchVariationFilter:
         not asked; :func:`~pvfilter.improved.follow.travelling_line`).
 
         Asked of a tilted scan past ``max_event_s``, where the scans would count as level
-        again; and before, where a beam of the view would settle onto what stood in front
+        again; and earlier, where a beam of the view would settle onto what stood in front
         of it that long (:func:`_settling`): a line whose beams came in front before the
         scans counted as tilted settles there first, and may no longer be confident when
-        the scans' clock asks. Before, only once the world-static test's earlier scan lies
-        within the event: a line not in that scan at all left its place as a travelling
-        one does. The verdict of a scan that was not asked is not carried on."""
+        the scans' clock asks. Asked early only once the world-static test's earlier scan
+        lies within the event: a line not in that scan at all left its place as a
+        travelling one does. No verdict is carried past a scan that was not asked."""
         params, static = self.params, found.static
         asked = tilted and (
             self._tilted_s + dt > params.max_event_s
