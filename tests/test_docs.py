@@ -48,7 +48,7 @@ FENCE = re.compile(r"^```(\w*)\s*$")
 NOT_RUN = re.compile(r"^<!--\s*not run:(.*?)-->$")
 EXPECTED_OUTPUT = "<!-- expected output (timings vary) -->"
 TIMINGS = (
-    re.compile(r"in [\d.]+ s wall \(\d+x real time\)"),
+    re.compile(r"in [\d.]+ s wall \([\d.]+x real time\)"),
     re.compile(r"[\d,.]+ scans/s"),
 )
 SHELLS = {"bash", "sh", "shell"}
