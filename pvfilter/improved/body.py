@@ -69,18 +69,22 @@ class BodyBeams:
         self._since_s: np.ndarray | None = None  # per beam, s; None: no body seen yet
         self._fixed = _SensorFixed()
         self._runs: tuple[np.ndarray, np.ndarray] | None = None  # per beam: scans, s
+        self.held_beams: np.ndarray | None = None  # what held() last gave
 
     def reset(self) -> None:
         """Forget the beams: a new sequence, or another scanner."""
         self._since_s = None
         self._fixed.clear()
         self._runs = None
+        self.held_beams = None
 
     def held(self, body: np.ndarray | None, dt: float, hold_s: float) -> np.ndarray | None:
         """Take one scan's body beams (what :meth:`returning_body` gave; None: none), and
         give those that have returned the body scan after scan for ``BODY_HELD_SCANS``
-        scans and ``hold_s`` seconds: a part of the robot that stays there (None: none).
-        ``dt``: time since the previous scan, s."""
+        scans and ``hold_s`` seconds: a part of the robot that stays there (None: none;
+        kept as :attr:`held_beams` until the next scan). ``dt``: time since the previous
+        scan, s."""
+        self.held_beams = None
         runs = self._runs
         if body is None or runs is None or runs[0].shape != body.shape:
             if body is None or not np.count_nonzero(body):
@@ -93,7 +97,9 @@ class BodyBeams:
         scans[~body] = 0
         seconds[~body] = 0.0
         held = (scans >= BODY_HELD_SCANS) & (seconds >= hold_s)
-        return held if np.count_nonzero(held) else None
+        if np.count_nonzero(held):
+            self.held_beams = held
+        return self.held_beams
 
     @property
     def tracking(self) -> bool:

@@ -178,7 +178,6 @@ class ImprovedPitchVariationFilter:
         self._follower = FloorFollower(self.params)
         self._travelled: LinePlace | None = None  # the floor line last found travelling
         self._body = BodyBeams()
-        self._held_body: np.ndarray | None = None  # the beams the body stays on (body.py)
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
         self._new_sequence = True
@@ -205,7 +204,6 @@ class ImprovedPitchVariationFilter:
         self._attitude.reset()
         self._roll.reset()
         self._body.reset()
-        self._held_body = None
         self._noise.reset()
         self._scanner_params()
 
@@ -379,10 +377,11 @@ class ImprovedPitchVariationFilter:
             unseen_travel,
             outcome.travel_seen,
         )
-        if self._held_body is not None:  # the body's own returns: in front of the world
-            # the view keeps behind it, and never new (it is fixed to the sensor: the
-            # beams of the scan before are this scan's)
-            new = new & ~self._held_body
+        # the body's own returns where it stays (the scan before's beams: it is fixed to the
+        # sensor) stand in front of the world the view keeps behind them: never new
+        held_body = self._body.held_beams
+        if held_body is not None:
+            new = new & ~held_body
         # a floor line held through a turn in place keeps its place in the sensor frame
         held = self._follower.held(scan.stamp, self._recent.pose)
         # detect: score segments, claim the points on the lines, build the clusters
@@ -512,7 +511,7 @@ class ImprovedPitchVariationFilter:
                 prepared.dt,
                 params.memory_timeout_s,
             )
-        held = self._held_body = self._body.held(body, prepared.dt, params.memory_timeout_s)
+        held = self._body.held(body, prepared.dt, params.memory_timeout_s)
         ranges, no_echo = prepared.ranges, prepared.no_echo
         if held is not None:
             ranges = np.where(held, np.nan, ranges)  # (NaN: unmeasured, teaches nothing)
@@ -801,7 +800,6 @@ class ImprovedPitchVariationFilter:
         if stamp_went_back(scan.stamp, previous, stacklevel=3):
             self._new_sequence = True
             self._body.reset()  # (another recording may follow)
-            self._held_body = None
         self._previous_stamp = scan.stamp
         fits = self._layout is not None and self._layout.fits(scan)
         fresh = self._new_sequence or not fits
@@ -809,7 +807,6 @@ class ImprovedPitchVariationFilter:
         if not fits:
             self._layout = BeamLayout.of(scan)
             self._body.reset()
-            self._held_body = None
             self._noise.reset()
             self._scanner_params()
         dt = 0.0 if previous is None else scan.stamp - previous
