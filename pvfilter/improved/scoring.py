@@ -102,9 +102,9 @@ HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where
 # half its points stayed put in the world (the world-static test under a turn)
 STATIC_SEEN_SHARE = 0.25  # 1: the world-static test weighs a line where the earlier scan
 # saw at least this share of its points (and half of those tell): a dark or glossy
-# surface echoes on some beams only, a different half each scan (the eighth generator's
-# apartment cabinet on 33-55 % of them); fewer is a part of the line out of the earlier
-# scan's view, not a sample of it
+# surface echoes on some beams only, a different set each scan (the eighth generator's
+# apartment face on a third to a half of them); fewer is a part of the line out of the
+# earlier scan's view, not a sample of it
 HELD_ON_VIEW = 2.0 / 3.0  # 1: ... nor where more than two thirds of its points lie on the
 # level view's surface (within STATIC_TOLERANCE_M): a wall that the turn brings there
 # stands where the view has it, while a floor line held through the turn lies in front of
