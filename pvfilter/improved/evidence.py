@@ -221,10 +221,9 @@ class WorldStatic:
         ``tolerance_m`` plus 1 % of the range."""
         return self.tolerance_m + 0.01 * range_m
 
-    def at(
-        self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """For ``beams``: the return is where the earlier scan saw it; the test tells.
+    def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
+        """For ``beams``: how far each return lies from where a surface fixed in the world
+        would lie, whether the test tells, and its tolerance (:class:`Offsets`).
 
         Args:
             beams: the beams asked about.
@@ -233,14 +232,6 @@ class WorldStatic:
                 (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
                 tells).
         """
-        offsets = self.offsets(beams, floor_shift_m)
-        static = offsets.telling & (np.abs(offsets.world_m) <= offsets.tolerance_m)  # NaN: no
-        return static, offsets.telling
-
-    def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
-        """For ``beams``: how far each return lies from where a surface fixed in the world
-        would lie, whether the test tells, and its tolerance (:class:`Offsets`; the
-        arguments as :meth:`at`'s)."""
         layout, since = self.layout, self.since
         shift = round(since.theta_rad / layout.increment)
         angle = self.directions.take(beams)
@@ -273,6 +264,16 @@ class Offsets(NamedTuple):
     world_m: np.ndarray  # from where a surface fixed in the world would lie now
     telling: np.ndarray  # bool: the sensor's motion (or a standing robot's pitch) tells
     tolerance_m: np.ndarray  # how near its prediction a return lies
+
+    @property
+    def stayed(self) -> np.ndarray:
+        """bool: the test tells, and the return lies where it would had it stayed put."""
+        return self.telling & (np.abs(self.world_m) <= self.tolerance_m)  # NaN compares False
+
+    @property
+    def seen(self) -> np.ndarray:
+        """bool: the earlier scan saw a return on the beam (and this one has one)."""
+        return self.world_m == self.world_m  # NaN compares False
 
 
 class Earlier(NamedTuple):

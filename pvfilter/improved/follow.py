@@ -297,7 +297,7 @@ def travelling_line(
     beams = segments.beams[segments.labels == strongest]
     place = LinePlace.of(segments, strongest)
     offsets = static.offsets(beams)
-    told = offsets.telling & ~np.isnan(offsets.world_m)  # (NaN: the earlier scan saw nothing)
+    told = offsets.telling & offsets.seen
     if np.count_nonzero(told) >= TOLD_SHARE * beams.size:
         if not _left_its_place(offsets.world_m[told], offsets.tolerance_m[told]):
             return None, None

@@ -100,6 +100,11 @@ COINCIDENT_WEIGHT = 0.5  # 1: a point that coincides with the level view (within
 # margin) counts this much against a line's share of new points (see the module docstring)
 HELD_NOT_STATIC = 0.5  # 1: a segment keeps a held floor line's place only where at most
 # half its points stayed put in the world (the world-static test under a turn)
+STATIC_SEEN_SHARE = 0.25  # 1: the world-static test weighs a line where the earlier scan
+# saw at least this share of its points (and half of those tell): a dark or glossy
+# surface echoes on some beams only, a different set each scan (the eighth generator's
+# apartment face on a third to a half of them); fewer is a part of the line out of the
+# earlier scan's view, not a sample of it
 HELD_ON_VIEW = 2.0 / 3.0  # 1: ... nor where more than two thirds of its points lie on the
 # level view's surface (within STATIC_TOLERANCE_M): a wall that the turn brings there
 # stands where the view has it, while a floor line held through the turn lies in front of
@@ -557,7 +562,10 @@ def _world_static_share(
     params: ImprovedParams,
 ) -> np.ndarray:
     """Per scored segment: the share of its points that stayed put in the world, where at
-    least half of them tell (else 0). Where the sensor stood, a steep line and a wall look
+    least half of the points the earlier scan saw tell, and it saw at least
+    ``STATIC_SEEN_SHARE`` of them (else 0). A beam without a return in the earlier scan
+    says nothing either way: a surface that echoes on every other beam would otherwise
+    never be told to be a wall. Where the sensor stood, a steep line and a wall look
     alike, but a shallow floor line moves with the least change of pitch (``tilt``: the
     tilt each segment implies, rad; see :class:`~pvfilter.improved.evidence.WorldStatic`).
     """
@@ -566,10 +574,12 @@ def _world_static_share(
     labels = segments.labels.take(points)
     change = standing_pitch_change(tilt, static.hold_tilt_rad)
     shift = floor_shift(tilt, change, params).take(labels)
-    stayed, telling = static.at(segments.beams.take(points), shift)
-    told = np.bincount(labels, telling, k)
-    share = np.bincount(labels, stayed, k) / np.maximum(told, 1.0)
-    return np.where(told >= 0.5 * segments.sizes, share, 0.0)
+    offsets = static.offsets(segments.beams.take(points), shift)
+    told = np.bincount(labels, offsets.telling & offsets.seen, k)
+    seen = np.bincount(labels, offsets.seen, k)
+    share = np.bincount(labels, offsets.stayed, k) / np.maximum(told, 1.0)
+    enough = (told >= 0.5 * seen) & (seen >= STATIC_SEEN_SHARE * segments.sizes)
+    return np.where(enough, share, 0.0)
 
 
 def _down_side(

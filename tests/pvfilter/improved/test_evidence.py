@@ -22,6 +22,11 @@ from .conftest import room_scan
 PARAMS = ImprovedParams()
 
 
+def verdict(offsets):
+    """The world-static test's verdict per beam asked about: (stayed put, the test tells)."""
+    return offsets.stayed, offsets.telling
+
+
 def ranges_of(scan):
     return np.where(scan.valid_mask(), scan.ranges, np.nan)
 
@@ -84,14 +89,14 @@ def test_a_wall_stays_put_in_the_world_and_a_floor_line_moves_with_the_sensor():
     test = WorldStatic(
         ranges_of(after), ranges_of(before), directions_of(after), layout, Motion(tx_m=-0.3), 0.03
     )
-    static, telling = test.at(np.arange(len(after)))
+    static, telling = verdict(test.offsets(np.arange(len(after))))
     walls, floor = telling & ~on_floor & after.valid_mask(), telling & on_floor
     assert walls.sum() > 100 and floor.sum() > 50  # the sensor moved along their beams
     assert static[walls].mean() > 0.9 and not static[floor].any()  # (corners aside)
     # standing still, nothing tells a wall from a line
     directions = directions_of(before)
     test = WorldStatic(ranges_of(before), ranges_of(before), directions, layout, Motion(), 0.03)
-    _, telling = test.at(np.arange(len(before)))
+    _, telling = verdict(test.offsets(np.arange(len(before))))
     assert not telling.any()
 
 
@@ -106,16 +111,17 @@ def test_standing_a_shallow_line_that_stayed_put_is_a_wall_and_one_that_moved_is
     steep = floor_shift(math.radians(20.0), STANDING_PITCH_CHANGE, PARAMS)
     assert shallow > 0.5 and steep < 0.02
     test = WorldStatic(ranges, ranges, directions_of(level), layout, Motion(), 0.03)
-    static, telling = test.at(beams, np.full(beams.size, shallow))
+    static, telling = verdict(test.offsets(beams, np.full(beams.size, shallow)))
     assert telling.all() and static.all()  # it stayed put: a wall
-    _, telling = test.at(beams, np.full(beams.size, steep))
+    _, telling = verdict(test.offsets(beams, np.full(beams.size, steep)))
     assert not telling.any()  # a steep line barely moves: nothing told
     moved = WorldStatic(ranges + 0.4, ranges, directions_of(level), layout, Motion(), 0.03)
-    static, telling = moved.at(beams, np.full(beams.size, shallow))
+    static, telling = verdict(moved.offsets(beams, np.full(beams.size, shallow)))
     assert telling.all() and not static.any()  # it moved while the sensor stood: floor
     # a sensor that moved along the beams is judged by its own motion, as before
     driven = WorldStatic(ranges, ranges, directions_of(level), layout, Motion(tx_m=0.3), 0.03)
-    assert np.array_equal(driven.at(beams, np.full(beams.size, shallow))[1], driven.at(beams)[1])
+    with_shift = driven.offsets(beams, np.full(beams.size, shallow)).telling
+    assert np.array_equal(with_shift, driven.offsets(beams).telling)
 
 
 def test_a_standing_body_cannot_hold_a_steep_tilt_so_a_steep_line_that_stayed_put_is_a_wall():
@@ -155,11 +161,11 @@ def test_a_standing_body_cannot_hold_a_steep_tilt_so_a_steep_line_that_stayed_pu
     assert floor_shift(steep[0], STANDING_PITCH_CHANGE, params) < 0.06  # no telling before
     shift = floor_shift(steep[0], change[0], params)
     assert shift > 0.1  # well beyond twice the tolerance: it tells
-    static, telling = stood(0.0).at(beams, np.full(beams.size, shift))
+    static, telling = verdict(stood(0.0).offsets(beams, np.full(beams.size, shift)))
     assert telling.all() and static.all()  # it stayed put while the sensor stood: a wall
     # a robot whose matches could not see its drive (a corridor) may have driven on with
     # its floor line: it is not known to have stood, and the line tells nothing
-    assert not stood(0.0, seen=False).at(beams, np.full(beams.size, shift))[1].any()
+    assert not stood(0.0, seen=False).offsets(beams, np.full(beams.size, shift)).telling.any()
 
 
 def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put():
@@ -176,8 +182,8 @@ def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put()
     test = WorldStatic(
         ranges_of(after), ranges_of(before), directions_of(after), layout, turned, 0.03
     )
-    static, telling = test.at(
-        beams, np.full(beams.size, floor_shift(pitch, STANDING_PITCH_CHANGE, PARAMS))
+    static, telling = verdict(
+        test.offsets(beams, np.full(beams.size, floor_shift(pitch, STANDING_PITCH_CHANGE, PARAMS)))
     )
     floor = on_floor[beams]
     assert telling[floor].sum() > 50 and not static[floor].any()

@@ -305,7 +305,8 @@ def test_a_noisy_scanner_s_wall_does_not_travel():
     earlier = held.ranges + 0.12 / _facing(held)
     noisy = _world_static(held, earlier, Motion(tx_m=-0.12), noise_m=0.06)
     segments = detection.segments
-    static, telling = noisy.at(segments.beams[segments.labels == held.strongest])
+    offsets = noisy.offsets(segments.beams[segments.labels == held.strongest])
+    static, telling = offsets.stayed, offsets.telling
     assert 0.5 < 1.0 - static[telling].mean() < 0.7  # counted, the returns would say "moved"
     assert travelling_line(detection, noisy, params) == (None, None)
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pvfilter.improved import ImprovedParams, ImprovedPitchVariationFilter, segment_scan
-from pvfilter.improved.evidence import STATIC_TOLERANCE_M
+from pvfilter.improved.evidence import STATIC_TOLERANCE_M, Offsets
 from pvfilter.improved.imu import Attitude
 from pvfilter.improved.scoring import (
     COINCIDENT_WEIGHT,
@@ -243,15 +243,20 @@ def test_the_strongest_confident_line_gives_the_pitch_the_imu_is_checked_against
 
 
 class Told:
-    """A stand-in world-static test: every point stayed put, and the test tells or not."""
+    """A stand-in world-static test: the earlier scan saw one beam in ``seen_every``, and
+    those returns stayed put (or moved 0.5 m); the test tells (``tells``: for all beams,
+    or a function of the beam indices) or not."""
 
     hold_tilt_rad = math.pi / 2  # no tilt a standing robot could not hold
 
-    def __init__(self, tells):
-        self.tells = tells
+    def __init__(self, tells, seen_every=1, stayed=True):
+        self.tells, self.seen_every, self.stayed = tells, seen_every, stayed
 
-    def at(self, beams, floor_shift_m=None):
-        return np.ones(len(beams), bool), np.full(len(beams), self.tells)
+    def offsets(self, beams, floor_shift_m=None):
+        moved_m = 0.0 if self.stayed else 0.5
+        world_m = np.where(beams % self.seen_every == 0, moved_m, np.nan)  # NaN: not seen
+        tells = self.tells(beams) if callable(self.tells) else np.full(len(beams), self.tells)
+        return Offsets(world_m, tells, np.full(len(beams), STATIC_TOLERANCE_M))
 
 
 def test_a_line_that_stayed_put_in_the_world_while_the_sensor_moved_is_a_wall():
@@ -260,6 +265,33 @@ def test_a_line_that_stayed_put_in_the_world_while_the_sensor_moved_is_a_wall():
     assert result.scores[0] == 0.0
     _, standing = scored(wall, static=Told(False))  # the sensor stood: nothing told
     assert standing.scores[0] == pytest.approx(1.0)
+
+
+def test_a_wall_that_echoes_on_some_beams_only_is_told_by_the_beams_the_earlier_scan_saw():
+    # a dark or glossy face returns on some beams only, a different set each scan: the
+    # earlier scan saw one beam in three of it, and those stayed put. The beams it did not
+    # see tell nothing either way, so the wall is a wall (counted as moved, they made it
+    # one third static; where the sensor stood, too few told and it was not weighed)
+    wall = line(1.5, -1.0, 1.5, 1.0)
+    _, result = scored(wall, static=Told(True, seen_every=3))
+    assert result.scores[0] == 0.0
+    # one beam in five is a part of the line the earlier scan had in view, not a sample
+    _, unseen = scored(wall, static=Told(True, seen_every=5))
+    assert unseen.scores[0] == pytest.approx(1.0)
+    # a floor line the earlier scan saw one beam in three of moved with the sensor there
+    _, floor = scored(wall, static=Told(True, seen_every=3, stayed=False))
+    assert floor.scores[0] == pytest.approx(1.0)
+
+
+def test_the_world_static_share_counts_the_seen_points_that_tell():
+    # every beam seen; the test tells on three in five of them, all of which stayed: the
+    # whole share that told stayed put (a wall), not three fifths of the line
+    wall = line(1.5, -1.0, 1.5, 1.0)
+    _, most = scored(wall, static=Told(lambda beams: beams % 5 < 3))
+    assert most.scores[0] == 0.0
+    # ... on one in three: fewer than half of the seen points tell, and it is not weighed
+    _, few = scored(wall, static=Told(lambda beams: beams % 3 == 0))
+    assert few.scores[0] == pytest.approx(1.0)
 
 
 def test_the_imu_supports_no_line_the_scan_shows_is_a_wall():
