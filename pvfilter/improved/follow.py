@@ -65,7 +65,7 @@ import numpy as np
 from pvfilter.improved.clusters import LineDetection
 from pvfilter.improved.evidence import WorldStatic
 from pvfilter.improved.geometry import TURN_TOLERANCE, folded, line_lean
-from pvfilter.improved.medians import median_of_few
+from pvfilter.improved.medians import median_in_place, median_of_few
 from pvfilter.improved.motion import Motion
 from pvfilter.improved.params import ImprovedParams
 from pvfilter.improved.scoring import HeldLine, strongest_confident
@@ -315,7 +315,7 @@ def travelling_line(
 def _left_its_place(world_m: np.ndarray, tolerance_m: np.ndarray) -> bool:
     """A line whose returns lie ``world_m`` from where a surface fixed in the world would
     (m, all finite) left its place: their median lies farther than the median of their
-    ``tolerance_m``. A median, not a count of returns beyond the tolerance: a scanner with
-    5 cm of range noise scatters about half of a wall's returns beyond it, scan after
-    scan, while their median stays within a centimetre."""
-    return abs(float(np.median(world_m))) > float(np.median(tolerance_m))
+    ``tolerance_m`` (both arrays are reordered). A median, not a count of returns beyond
+    the tolerance: a scanner with 5 cm of range noise scatters about half of a wall's
+    returns beyond it, scan after scan, while their median stays within a centimetre."""
+    return abs(median_in_place(world_m)) > median_in_place(tolerance_m)  # (copies: masked)
