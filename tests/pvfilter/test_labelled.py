@@ -23,7 +23,7 @@ from pvfilter.labelled import (
 from pvfilter.registry import FilterEntry, filter_entry, register_filter, unregister_filter
 from pvfilter.synthetic import room_sequence
 
-STATIC, FLOOR, DYNAMIC, OCCLUDED = 1, 2, 5, 6
+STATIC, FLOOR, CEILING, DYNAMIC, OCCLUDED = 1, 2, 3, 5, 6
 
 
 def labelled_arrays(count=60):
@@ -51,18 +51,16 @@ class OracleParams:
     lidar_height_m: float = 0.25
 
 
-class Oracle:
-    """A stand-in filter that removes exactly the floor-line beams of the fixture."""
+class Removing:
+    """A stand-in filter without parameters that removes a fixed mask, scan by scan."""
 
-    seen_heights: ClassVar[list[float]] = []
+    mask = np.zeros((0, 0), bool)
 
-    def __init__(self, params=OracleParams()):
-        self.truth = labelled_arrays()[1]
+    def __init__(self):
         self.count = 0
-        Oracle.seen_heights.append(params.lidar_height_m)
 
     def process(self, scan, **inputs):
-        removed = self.truth[self.count].copy()
+        removed = self.mask[self.count].copy()
         self.count += 1
         return type("Result", (), {"removed": removed, "scores": removed * 1.0})()
 
@@ -70,11 +68,26 @@ class Oracle:
         self.count = 0
 
 
+class Oracle(Removing):
+    """A stand-in filter that removes exactly the floor-line beams of the fixture."""
+
+    seen_heights: ClassVar[list[float]] = []
+
+    def __init__(self, params=OracleParams()):
+        super().__init__()
+        self.mask = labelled_arrays()[1]
+        Oracle.seen_heights.append(params.lidar_height_m)
+
+
+def registered(entry):
+    """Register a stand-in filter for a test, and take it out after."""
+    yield register_filter(entry)
+    unregister_filter(entry.name)
+
+
 @pytest.fixture
 def oracle():
-    entry = register_filter(FilterEntry("oracle", Oracle, OracleParams, "the labels"))
-    yield entry
-    unregister_filter("oracle")
+    yield from registered(FilterEntry("oracle", Oracle, OracleParams, "the labels"))
 
 
 def test_the_labels_themselves_score_one_and_remove_no_static_beam(labelled_file, oracle):
@@ -199,6 +212,88 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
     curve = pooled(reports)
     np.testing.assert_array_equal(curve.tp, np.add(reports[0].tp, reports[1].tp))
     assert min(r.auc for r in reports) <= curve.auc <= max(r.auc for r in reports) + 1e-9
+
+
+@pytest.fixture
+def removing():
+    yield from registered(FilterEntry("removing", Removing, None, "a fixed mask"))
+
+
+def test_the_per_scan_counts_are_the_beams_removed_in_each_scan(tmp_path, removing):
+    arrays, truth = labelled_arrays()
+    labels = arrays["labels"]
+    beams = np.arange(truth.shape[1])
+    wrong = (labels == STATIC) & (beams < 10)  # ten walls' beams removed ...
+    wrong[1::2] = False  # ... in every other scan
+    labels[wrong & (beams < 3)] = 0  # three of them with a range but labelled NO_RETURN
+    ceiling = truth & (beams % 2 == 0)  # and half of each floor line a ceiling line
+    labels[ceiling] = CEILING
+    body = labels == OCCLUDED  # the body's beams, removed too, are not counted
+    found = truth & (beams % 3 != 0)  # two in three of the floor and ceiling beams
+    Removing.mask = found | wrong | body
+    path = tmp_path / "room.npz"
+    np.savez(path, **arrays)
+    report = evaluate_labelled(path, removing, counts_per_scan=True)
+    counts = report.per_scan
+    counted = np.isfinite(arrays["ranges"]) & (arrays["labels"] != OCCLUDED)
+    np.testing.assert_array_equal(counts.scan, np.arange(len(truth)))
+    np.testing.assert_array_equal(counts.stamp_s, arrays["stamps"])
+    np.testing.assert_array_equal(counts.beams, counted.sum(axis=1))
+    np.testing.assert_array_equal(counts.positives, (truth & counted).sum(axis=1))
+    np.testing.assert_array_equal(counts.hits, found.sum(axis=1))
+    np.testing.assert_array_equal(counts.false_alarms, (wrong & counted).sum(axis=1))
+    np.testing.assert_array_equal(counts.static_removed, (wrong & (labels == STATIC)).sum(axis=1))
+    assert counts.static_removed.sum() < counts.false_alarms.sum()
+    assert counts.false_alarms[0] > 0 and counts.false_alarms[1] == 0
+    np.testing.assert_array_equal(counts.removed, counts.hits + counts.false_alarms)
+    for name, beams_of in (("FLOOR", truth & ~ceiling), ("CEILING", ceiling)):
+        labelled, found_removed = counts.by_label[name]
+        np.testing.assert_array_equal(labelled, beams_of.sum(axis=1))
+        np.testing.assert_array_equal(found_removed, (beams_of & found).sum(axis=1))
+    assert counts.by_label["CEILING"][0].any() and not counts.by_label["HORIZONTAL"][0].any()
+    # the whole file's counts are the scans' summed
+    assert (counts.hits.sum(), counts.false_alarms.sum()) == (report.tp[0], report.fp[0])
+    assert counts.static_removed.sum() == report.static_removed
+    assert evaluate_labelled(path, removing).per_scan is None  # kept only where asked
+
+
+def test_the_per_scan_counts_follow_the_operating_point_and_the_kept_scans(labelled_file):
+    improved = filter_entry("improved")
+    report = evaluate_labelled(labelled_file, improved, counts_per_scan=True, every=3)
+    counts = report.per_scan
+    np.testing.assert_array_equal(counts.scan, np.arange(0, 60, 3))  # the file's indices
+    at = report.thresholds.index(report.operating_point)
+    assert counts.hits.sum() == report.tp[at] > 0
+    assert counts.false_alarms.sum() == report.fp[at]
+    assert counts.positives.sum() == report.positives and counts.beams.sum() == report.beams
+    looser = evaluate_labelled(
+        labelled_file, improved, fields={"p_th": 0.0}, counts_per_scan=True, every=3
+    )
+    assert looser.per_scan.removed.sum() >= counts.removed.sum()
+    assert looser.per_scan.removed.sum() == looser.tp[0] + looser.fp[0]
+
+
+def test_the_command_writes_a_per_scan_table_per_file_and_filter(labelled_file, tmp_path, capsys):
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(labelled_file), "--out", str(out), "--per-scan"]
+    assert main(argv) == 0
+    assert "wrote 2 per-scan tables" in capsys.readouterr().out
+    document = json.loads((out / "report.json").read_text())
+    assert all("per_scan" not in row for row in document["files"])  # the tables hold them
+    for row in document["files"]:
+        lines = (out / "per_scan" / f"room.{row['filter']}.csv").read_text().splitlines()
+        header = lines[0].split(",")
+        assert header[:8] == [
+            "scan", "stamp_s", "beams", "positives", "removed", "hits", "false_alarms",
+            "static_removed",
+        ]  # fmt: skip
+        assert "horizontal_removed" in header and len(lines) == 1 + row["scans"]
+        table = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+        at = row["thresholds"].index(row["operating_point"])
+        assert table[:, header.index("hits")].sum() == row["tp"][at]
+        assert table[:, header.index("false_alarms")].sum() == row["fp"][at]
+    assert main(["eval-labels", str(labelled_file), "--per-scan"]) == 2  # without --out
+    assert "--per-scan: add --out DIR" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(
