@@ -159,7 +159,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also write, per file and filter, its counts per scan at the operating point "
         "(positives, hits, false alarms, STATIC removed, each positive label found) as "
-        "DIR/per_scan/<file>.<filter>.csv: where in a sequence a filter fails (needs --out)",
+        "DIR/per_scan/<file>.<filter>.csv, replacing an earlier run's: where in a sequence a "
+        "filter fails (needs --out)",
     )
     return parser
 
@@ -329,7 +330,7 @@ def _summary(reports: list[LabelledReport], target: float) -> dict:
 def _write(out: Path, args, reports, summaries, settings) -> None:
     rows = [
         dict(
-            {k: v for k, v in dataclasses.asdict(r).items() if k != "per_scan"},
+            _without_scans(r),
             auc=r.auc,
             precision=r.precision,
             recall=r.recall,
@@ -361,27 +362,43 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
 
 
+def _without_scans(report: LabelledReport) -> dict:
+    """The report's fields but its per-scan counts (the tables hold them), as a dict."""
+    fields = dataclasses.asdict(dataclasses.replace(report, per_scan=None))
+    del fields["per_scan"]
+    return fields
+
+
 def _write_per_scan(folder: Path, reports: dict[str, list[LabelledReport]]) -> None:
-    """One CSV per file and filter: its :class:`~pvfilter.labelled.ScanCounts` rows."""
+    """One CSV per file and filter: its :class:`~pvfilter.labelled.ScanCounts` rows. The
+    folder holds this run's tables only (those of an earlier run are replaced), each
+    named once (two files named alike get ``-2``, ``-3``, ...)."""
     folder.mkdir(exist_ok=True)
-    written = 0
+    for old in folder.glob("*.csv"):
+        old.unlink()
+    names: set[str] = set()
     for found in reports.values():
         for report in found:
+            stem = f"{_file_name(report.file)}.{_file_name(report.filter)}"
+            name, k = stem, 1
+            while name in names:
+                k += 1
+                name = f"{stem}-{k}"
+            names.add(name)
             rows = report.per_scan.rows()
-            path = folder / f"{_file_name(report.file)}.{_file_name(report.filter)}.csv"
-            with path.open("w", newline="") as table:
+            with (folder / f"{name}.csv").open("w", newline="") as table:
                 writer = csv.DictWriter(table, fieldnames=list(rows[0]))
                 writer.writeheader()
                 writer.writerows(rows)
-            written += 1
-    tables = "table" if written == 1 else "tables"
-    print(f"pvfilter eval-labels: wrote {written} per-scan {tables} in {folder}")
+    tables = "table" if len(names) == 1 else "tables"
+    print(f"pvfilter eval-labels: wrote {len(names)} per-scan {tables} in {folder}")
 
 
 def _file_name(text: str) -> str:
     """``text`` as part of a file name: runs of anything but letters, digits, ``-``, ``_``
-    and ``.`` become one ``_`` (a file's folder/name, a filter's label with spaces)."""
-    return re.sub(r"[^\w.-]+", "_", text)
+    and ``.`` become one ``_``, none at either end (a file's folder/name, a filter's label
+    with spaces: ``improved (defaults)`` is ``improved_defaults``)."""
+    return re.sub(r"[^\w.-]+", "_", text).strip("_")
 
 
 def _no_nan(value):

@@ -141,7 +141,8 @@ class ScanCounts:
 
     Attributes:
         scan: the scan's index in the file.
-        stamp_s: its stamp, s.
+        stamp_s: its stamp in the file, s (a clockwise scan's too, which the reader
+            moves to its first beam's time).
         beams: beams counted (as :class:`LabelledReport` counts them).
         positives: of those, FLOOR, CEILING or HORIZONTAL.
         removed: counted beams the filter removed.
@@ -189,10 +190,10 @@ class ScanCounts:
 
 
 def scan_counts(
-    removed: np.ndarray, truth: BeamTruth, scans: Sequence[Scan], file_scans: np.ndarray
+    removed: np.ndarray, truth: BeamTruth, file_scans: np.ndarray, stamps_s: np.ndarray
 ) -> ScanCounts:
-    """:class:`ScanCounts` of a removed mask ``(m, n)`` over ``scans`` (``file_scans``:
-    each one's index in its file)."""
+    """:class:`ScanCounts` of a removed mask ``(m, n)`` over the scans of ``truth``
+    (``file_scans``: each one's index in its file; ``stamps_s``: its stamp there, s)."""
     removed = removed & truth.counted
     hits = removed & truth.positive
     static = removed & (truth.labels == STATIC_LABEL)
@@ -205,7 +206,7 @@ def scan_counts(
         )
     return ScanCounts(
         scan=np.asarray(file_scans, dtype=np.int64),
-        stamp_s=np.array([s.stamp for s in scans], dtype=np.float64),
+        stamp_s=np.asarray(stamps_s, dtype=np.float64),
         beams=np.count_nonzero(truth.counted, axis=1),
         positives=np.count_nonzero(truth.positive, axis=1),
         removed=np.count_nonzero(removed, axis=1),
@@ -571,12 +572,12 @@ def evaluate_labelled(
             counts[k] = _counts(removed, truth)
             if value == operating:
                 at_operating, rate = removed, pass_rate
+    stamps = np.broadcast_to(np.asarray(arrays["stamps"], dtype=np.float64), (count,))[::every]
+    scanned = scan_counts(at_operating, truth, file_scans, stamps)
     by_label = {}
-    for code in PITCH_VARIATION_LABELS:
-        beams = truth.counted & (truth.labels == code)
-        total = int(np.count_nonzero(beams))
-        found = int(np.count_nonzero(beams & at_operating))
-        by_label[LABEL_NAMES[code]] = found / total if total else math.nan
+    for label, (beams, found) in scanned.by_label.items():
+        total = int(beams.sum())
+        by_label[label] = int(found.sum()) / total if total else math.nan
     static = truth.counted & (truth.labels == STATIC_LABEL)
     return LabelledReport(
         file=path.stem if name is None else name,
@@ -590,12 +591,12 @@ def evaluate_labelled(
         fn=tuple(counts[:, 2].tolist()),
         operating_point=operating,
         recall_by_label=by_label,
-        static_removed=int(np.count_nonzero(static & at_operating)),
+        static_removed=int(scanned.static_removed.sum()),
         static_beams=int(np.count_nonzero(static)),
         inputs=tuple(sorted({k for extra in per_scan for k in extra})),
         geometry=told,
         scans_per_s=rate,
-        per_scan=scan_counts(at_operating, truth, scans, file_scans) if counts_per_scan else None,
+        per_scan=scanned if counts_per_scan else None,
     )
 
 

@@ -1,6 +1,8 @@
 """Filters scored on labelled scan files: the counting rule, the sweep, the command."""
 
+import contextlib
 import dataclasses
+import functools
 import json
 from typing import ClassVar
 
@@ -54,9 +56,8 @@ class OracleParams:
 class Removing:
     """A stand-in filter without parameters that removes a fixed mask, scan by scan."""
 
-    mask = np.zeros((0, 0), bool)
-
-    def __init__(self):
+    def __init__(self, mask):
+        self.mask = mask
         self.count = 0
 
     def process(self, scan, **inputs):
@@ -74,20 +75,23 @@ class Oracle(Removing):
     seen_heights: ClassVar[list[float]] = []
 
     def __init__(self, params=OracleParams()):
-        super().__init__()
-        self.mask = labelled_arrays()[1]
+        super().__init__(labelled_arrays()[1])
         Oracle.seen_heights.append(params.lidar_height_m)
 
 
+@contextlib.contextmanager
 def registered(entry):
-    """Register a stand-in filter for a test, and take it out after."""
-    yield register_filter(entry)
-    unregister_filter(entry.name)
+    """A stand-in filter registered for a test, and taken out after."""
+    try:
+        yield register_filter(entry)
+    finally:
+        unregister_filter(entry.name)
 
 
 @pytest.fixture
 def oracle():
-    yield from registered(FilterEntry("oracle", Oracle, OracleParams, "the labels"))
+    with registered(FilterEntry("oracle", Oracle, OracleParams, "the labels")) as entry:
+        yield entry
 
 
 def test_the_labels_themselves_score_one_and_remove_no_static_beam(labelled_file, oracle):
@@ -214,28 +218,34 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
     assert min(r.auc for r in reports) <= curve.auc <= max(r.auc for r in reports) + 1e-9
 
 
-@pytest.fixture
-def removing():
-    yield from registered(FilterEntry("removing", Removing, None, "a fixed mask"))
+def removing(mask):
+    """The entry of a stand-in filter that removes ``mask`` (for :func:`registered`)."""
+    return FilterEntry("removing", functools.partial(Removing, mask), None, "a fixed mask")
 
 
-def test_the_per_scan_counts_are_the_beams_removed_in_each_scan(tmp_path, removing):
+def test_the_per_scan_counts_are_the_beams_removed_in_each_scan(tmp_path):
     arrays, truth = labelled_arrays()
-    labels = arrays["labels"]
+    labels, ranges = arrays["labels"], arrays["ranges"]
     beams = np.arange(truth.shape[1])
-    wrong = (labels == STATIC) & (beams < 10)  # ten walls' beams removed ...
+    wrong = (labels == STATIC) & (beams < 10)  # the first ten beams on a wall removed ...
     wrong[1::2] = False  # ... in every other scan
     labels[wrong & (beams < 3)] = 0  # three of them with a range but labelled NO_RETURN
     ceiling = truth & (beams % 2 == 0)  # and half of each floor line a ceiling line
     labels[ceiling] = CEILING
     body = labels == OCCLUDED  # the body's beams, removed too, are not counted
     found = truth & (beams % 3 != 0)  # two in three of the floor and ceiling beams
-    Removing.mask = found | wrong | body
+    silent = truth & (beams % 3 == 1)  # of those, some without an echo, some past the reach
+    ranges[silent & (beams % 2 == 0)] = np.inf
+    ranges[silent & (beams % 2 == 1)] = 100.0
+    # counted: none of the silent beams
+    truth, found, ceiling = (mask & ~silent for mask in (truth, found, ceiling))
     path = tmp_path / "room.npz"
     np.savez(path, **arrays)
-    report = evaluate_labelled(path, removing, counts_per_scan=True)
+    with registered(removing(found | silent | wrong | body)) as entry:
+        report = evaluate_labelled(path, entry, counts_per_scan=True)
+        unasked = evaluate_labelled(path, entry)
     counts = report.per_scan
-    counted = np.isfinite(arrays["ranges"]) & (arrays["labels"] != OCCLUDED)
+    counted = (ranges < 100.0) & (labels != OCCLUDED)  # (inf and NaN compare False)
     np.testing.assert_array_equal(counts.scan, np.arange(len(truth)))
     np.testing.assert_array_equal(counts.stamp_s, arrays["stamps"])
     np.testing.assert_array_equal(counts.beams, counted.sum(axis=1))
@@ -254,7 +264,7 @@ def test_the_per_scan_counts_are_the_beams_removed_in_each_scan(tmp_path, removi
     # the whole file's counts are the scans' summed
     assert (counts.hits.sum(), counts.false_alarms.sum()) == (report.tp[0], report.fp[0])
     assert counts.static_removed.sum() == report.static_removed
-    assert evaluate_labelled(path, removing).per_scan is None  # kept only where asked
+    assert silent.any() and unasked.per_scan is None  # kept only where asked
 
 
 def test_the_per_scan_counts_follow_the_operating_point_and_the_kept_scans(labelled_file):
@@ -294,6 +304,27 @@ def test_the_command_writes_a_per_scan_table_per_file_and_filter(labelled_file, 
         assert table[:, header.index("false_alarms")].sum() == row["fp"][at]
     assert main(["eval-labels", str(labelled_file), "--per-scan"]) == 2  # without --out
     assert "--per-scan: add --out DIR" in capsys.readouterr().err
+
+
+def test_each_per_scan_table_has_a_name_of_its_own(labelled_file, tmp_path, capsys):
+    # two files both named a/room, and a compared filter whose label has a space
+    for folder in ("x", "y"):
+        (tmp_path / folder / "a").mkdir(parents=True)
+        np.savez(tmp_path / folder / "a" / "room.npz", **labelled_arrays(30)[0])
+    out = tmp_path / "report"
+    (out / "per_scan").mkdir(parents=True)
+    (out / "per_scan" / "earlier.csv").write_text("scan\n0\n")  # an earlier run's table
+    files = [str(tmp_path / folder / "a" / "room.npz") for folder in ("x", "y")]
+    argv = ["eval-labels", *files, "--set", "p_th=0.3", "--compare", "improved"]
+    assert main([*argv, "--out", str(out), "--per-scan"]) == 0
+    assert "wrote 4 per-scan tables" in capsys.readouterr().out
+    written = sorted(path.name for path in (out / "per_scan").iterdir())
+    assert written == [
+        "a_room.improved-2.csv",
+        "a_room.improved.csv",
+        "a_room.improved_defaults-2.csv",
+        "a_room.improved_defaults.csv",
+    ]
 
 
 @pytest.mark.parametrize(
@@ -545,11 +576,21 @@ def test_a_clockwise_file_scores_as_the_same_scans_counter_clockwise(labelled_fi
     path = tmp_path / "clockwise.npz"
     np.savez(path, **(arrays | flipped | {"angle_min": start, "angle_increment": increment}))
     improved = filter_entry("improved")
-    plain, turned = evaluate_labelled(labelled_file, improved), evaluate_labelled(path, improved)
+    plain = evaluate_labelled(labelled_file, improved, counts_per_scan=True)
+    turned = evaluate_labelled(path, improved, counts_per_scan=True)
     assert (turned.beams, turned.positives) == (plain.beams, plain.positives)
     np.testing.assert_array_equal(turned.tp, plain.tp)
     np.testing.assert_array_equal(turned.fp, plain.fp)
     assert plain.auc > 0.9
+    # scan by scan the same, each at the file's own stamp (the reader moves a clockwise
+    # scan's stamp to its first beam's time)
+    for field in ("scan", "beams", "positives", "removed", "hits", "static_removed"):
+        np.testing.assert_array_equal(
+            getattr(turned.per_scan, field), getattr(plain.per_scan, field)
+        )
+    assert np.all(arrays["time_increment"] > 0.0)
+    np.testing.assert_array_equal(turned.per_scan.stamp_s, arrays["stamps"])
+    np.testing.assert_array_equal(plain.per_scan.stamp_s, arrays["stamps"])
 
 
 def cli_report(tmp_path, path, *options):
