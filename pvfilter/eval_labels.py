@@ -23,16 +23,20 @@ turn's first sample); ``--imu-nose-up`` negates the IMU's pitch (the other conve
 reads every return beyond M metres as no echo after the noise (a scanner that reaches
 less far).
 A folder stands for the ``.npz`` files in it; files without scans are skipped with a note.
-``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``.
+``--out DIR`` writes ``report.json`` (every count of every curve) and ``report.md``;
+``--per-scan`` adds ``per_scan/<file>.<filter>.csv`` there, the counts per scan at the
+operating point (:class:`pvfilter.labelled.ScanCounts`).
 Exit status: 0 done, 2 a user mistake (one line naming it), 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import dataclasses
 import json
 import math
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -42,6 +46,7 @@ from pvfilter.labelled import INPUT_KEYS, LabelledReport, evaluate_labelled, poo
 from pvfilter.registry import filter_entry
 
 DEFAULT_TARGET_AUC = 0.90  # the AUC every sequence should reach (the improved filter's goal)
+PER_SCAN_FOLDER = "per_scan"  # --per-scan: the tables' folder in --out
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -149,6 +154,14 @@ def build_parser() -> argparse.ArgumentParser:
         "...): a user who did not set it, so the filters take their defaults",
     )
     parser.add_argument("--out", metavar="DIR", help="write report.json and report.md here")
+    parser.add_argument(
+        "--per-scan",
+        action="store_true",
+        help="also write, per file and filter, its counts per scan at the operating point "
+        "(positives, hits, false alarms, STATIC removed, each positive label found) as "
+        "DIR/per_scan/<file>.<filter>.csv, replacing an earlier run's: where in a sequence a "
+        "filter fails (needs --out)",
+    )
     return parser
 
 
@@ -202,6 +215,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         raise ValueError(f"--range-max: a range > 0 m, got {args.range_max}")
     if args.beam_stride < 1:
         raise ValueError(f"--beam-stride: a number of beams >= 1, got {args.beam_stride}")
+    if args.per_scan and args.out is None:
+        raise ValueError("--per-scan: add --out DIR (the per-scan tables are written there)")
     entry, params, fields = chosen_entry(args)
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
@@ -239,6 +254,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 beam_stride=args.beam_stride,
                 range_max_m=args.range_max,
                 ignore_geometry=args.ignore_geometry,
+                counts_per_scan=args.per_scan,
             )
             if report is None:
                 print(f"pvfilter eval-labels: {path}: no scans (skipped)")
@@ -258,6 +274,8 @@ def _evaluate(args: argparse.Namespace) -> int:
         )
     if out is not None:
         _write(out, args, reports, summaries, settings)
+        if args.per_scan:
+            _write_per_scan(out / PER_SCAN_FOLDER, reports)
     return 0
 
 
@@ -312,7 +330,7 @@ def _summary(reports: list[LabelledReport], target: float) -> dict:
 def _write(out: Path, args, reports, summaries, settings) -> None:
     rows = [
         dict(
-            dataclasses.asdict(r),
+            _without_scans(r),
             auc=r.auc,
             precision=r.precision,
             recall=r.recall,
@@ -342,6 +360,45 @@ def _write(out: Path, args, reports, summaries, settings) -> None:
     as_markdown = markdown(reports, summaries, args.inputs, args.target, settings, changes)
     (out / "report.md").write_text(as_markdown)
     print(f"pvfilter eval-labels: wrote {out / 'report.json'} and {out / 'report.md'}")
+
+
+def _without_scans(report: LabelledReport) -> dict:
+    """The report's fields but its per-scan counts (the tables hold them), as a dict."""
+    fields = dataclasses.asdict(dataclasses.replace(report, per_scan=None))
+    del fields["per_scan"]
+    return fields
+
+
+def _write_per_scan(folder: Path, reports: dict[str, list[LabelledReport]]) -> None:
+    """One CSV per file and filter: its :class:`~pvfilter.labelled.ScanCounts` rows. The
+    folder holds this run's tables only (those of an earlier run are replaced), each
+    named once (two files named alike get ``-2``, ``-3``, ...)."""
+    folder.mkdir(exist_ok=True)
+    for old in folder.glob("*.csv"):
+        old.unlink()
+    names: set[str] = set()
+    for found in reports.values():
+        for report in found:
+            stem = f"{_file_name(report.file)}.{_file_name(report.filter)}"
+            name, k = stem, 1
+            while name in names:
+                k += 1
+                name = f"{stem}-{k}"
+            names.add(name)
+            rows = report.per_scan.rows()
+            with (folder / f"{name}.csv").open("w", newline="") as table:
+                writer = csv.DictWriter(table, fieldnames=list(rows[0]))
+                writer.writeheader()
+                writer.writerows(rows)
+    tables = "table" if len(names) == 1 else "tables"
+    print(f"pvfilter eval-labels: wrote {len(names)} per-scan {tables} in {folder}")
+
+
+def _file_name(text: str) -> str:
+    """``text`` as part of a file name: runs of anything but letters, digits, ``-``, ``_``
+    and ``.`` become one ``_``, none at either end (a file's folder/name, a filter's label
+    with spaces: ``improved (defaults)`` is ``improved_defaults``)."""
+    return re.sub(r"[^\w.-]+", "_", text).strip("_")
 
 
 def _no_nan(value):

@@ -76,6 +76,8 @@ class LabelledReport:
         inputs: the robot inputs the filter was given.
         geometry: the robot geometry the file stated and the filter was told, m.
         scans_per_s: the filter's rate at the operating point.
+        per_scan: the counts per scan at the operating point, where asked for
+            (:func:`evaluate_labelled`'s ``counts_per_scan``; None: not asked).
     """
 
     file: str
@@ -94,6 +96,7 @@ class LabelledReport:
     inputs: tuple[str, ...]
     geometry: dict[str, float]
     scans_per_s: float
+    per_scan: ScanCounts | None = dataclasses.field(default=None, compare=False, repr=False)
 
     @property
     def curve(self) -> PrCurve:
@@ -128,6 +131,89 @@ class BeamTruth:
     counted: np.ndarray  # bool (m, n)
     positive: np.ndarray  # bool (m, n)
     labels: np.ndarray  # int (m, n)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)  # holds arrays: no field-wise ==
+class ScanCounts:
+    """A filter's beams per scan at its operating point: where in a file it finds the
+    pitch variation, misses it, or removes structure. Each array has one value per scan
+    scored (in the file's order; with ``every``, every that many scans of it).
+
+    Attributes:
+        scan: the scan's index in the file.
+        stamp_s: its stamp in the file, s (a clockwise scan's too, which the reader
+            moves to its first beam's time).
+        beams: beams counted (as :class:`LabelledReport` counts them).
+        positives: of those, FLOOR, CEILING or HORIZONTAL.
+        removed: counted beams the filter removed.
+        hits: removed positives.
+        static_removed: removed STATIC beams (the other false alarms are NO_RETURN
+            beams a file labels so while it gives them a range).
+        by_label: per positive label name, its counted beams and those removed, two
+            arrays.
+    """
+
+    scan: np.ndarray
+    stamp_s: np.ndarray
+    beams: np.ndarray
+    positives: np.ndarray
+    removed: np.ndarray
+    hits: np.ndarray
+    static_removed: np.ndarray
+    by_label: dict[str, tuple[np.ndarray, np.ndarray]]
+
+    @property
+    def false_alarms(self) -> np.ndarray:
+        """Removed beams that are not positives, per scan."""
+        return self.removed - self.hits
+
+    def rows(self) -> list[dict[str, float | int]]:
+        """One row per scan, as the ``--per-scan`` tables write them."""
+        columns = {
+            "scan": self.scan,
+            "stamp_s": self.stamp_s,
+            "beams": self.beams,
+            "positives": self.positives,
+            "removed": self.removed,
+            "hits": self.hits,
+            "false_alarms": self.false_alarms,
+            "static_removed": self.static_removed,
+        }
+        for name, (counted, removed) in self.by_label.items():
+            columns[name.lower()] = counted
+            columns[f"{name.lower()}_removed"] = removed
+        names = list(columns)
+        return [
+            dict(zip(names, values, strict=True))
+            for values in zip(*(column.tolist() for column in columns.values()), strict=True)
+        ]
+
+
+def scan_counts(
+    removed: np.ndarray, truth: BeamTruth, file_scans: np.ndarray, stamps_s: np.ndarray
+) -> ScanCounts:
+    """:class:`ScanCounts` of a removed mask ``(m, n)`` over the scans of ``truth``
+    (``file_scans``: each one's index in its file; ``stamps_s``: its stamp there, s)."""
+    removed = removed & truth.counted
+    hits = removed & truth.positive
+    static = removed & (truth.labels == STATIC_LABEL)
+    by_label = {}
+    for code in PITCH_VARIATION_LABELS:
+        beams = truth.counted & (truth.labels == code)
+        by_label[LABEL_NAMES[code]] = (
+            np.count_nonzero(beams, axis=1),
+            np.count_nonzero(beams & removed, axis=1),
+        )
+    return ScanCounts(
+        scan=np.asarray(file_scans, dtype=np.int64),
+        stamp_s=np.asarray(stamps_s, dtype=np.float64),
+        beams=np.count_nonzero(truth.counted, axis=1),
+        positives=np.count_nonzero(truth.positive, axis=1),
+        removed=np.count_nonzero(removed, axis=1),
+        hits=np.count_nonzero(hits, axis=1),
+        static_removed=np.count_nonzero(static, axis=1),
+        by_label=by_label,
+    )
 
 
 def read_labels(arrays: Mapping[str, np.ndarray], source: str) -> np.ndarray:
@@ -367,6 +453,7 @@ def evaluate_labelled(
     beam_stride: int = 1,
     range_max_m: float | None = None,
     ignore_geometry: bool = False,
+    counts_per_scan: bool = False,
 ) -> LabelledReport | None:
     """Run the filter over a labelled scan file, and count per swept threshold.
 
@@ -405,6 +492,8 @@ def evaluate_labelled(
             noisy ranges against it (:func:`with_range_max`).
         ignore_geometry: the robot geometry the file states is not told to the filter,
             which takes its own values (a user who did not set them).
+        counts_per_scan: keep the counts per scan at the operating point in the report
+            (:class:`ScanCounts`).
 
     Returns:
         The report; None when the file holds no scans.
@@ -423,6 +512,7 @@ def evaluate_labelled(
     labels = scan_labels(arrays, source, len(scans))
     count = len(scans)  # the file's, for its per-scan inputs
     scans, labels = scans[::every], labels[::every]
+    file_scans = np.arange(0, count, every)  # each kept scan's index in the file
     if beam_stride < 1:
         raise ValueError(f"beam_stride: a number of beams >= 1, got {beam_stride}")
     if beam_stride > 1:
@@ -482,12 +572,12 @@ def evaluate_labelled(
             counts[k] = _counts(removed, truth)
             if value == operating:
                 at_operating, rate = removed, pass_rate
+    stamps = np.broadcast_to(np.asarray(arrays["stamps"], dtype=np.float64), (count,))[::every]
+    scanned = scan_counts(at_operating, truth, file_scans, stamps)
     by_label = {}
-    for code in PITCH_VARIATION_LABELS:
-        beams = truth.counted & (truth.labels == code)
-        total = int(np.count_nonzero(beams))
-        found = int(np.count_nonzero(beams & at_operating))
-        by_label[LABEL_NAMES[code]] = found / total if total else math.nan
+    for label, (beams, found) in scanned.by_label.items():
+        total = int(beams.sum())
+        by_label[label] = int(found.sum()) / total if total else math.nan
     static = truth.counted & (truth.labels == STATIC_LABEL)
     return LabelledReport(
         file=path.stem if name is None else name,
@@ -501,11 +591,12 @@ def evaluate_labelled(
         fn=tuple(counts[:, 2].tolist()),
         operating_point=operating,
         recall_by_label=by_label,
-        static_removed=int(np.count_nonzero(static & at_operating)),
+        static_removed=int(scanned.static_removed.sum()),
         static_beams=int(np.count_nonzero(static)),
         inputs=tuple(sorted({k for extra in per_scan for k in extra})),
         geometry=told,
         scans_per_s=rate,
+        per_scan=scanned if counts_per_scan else None,
     )
 
 

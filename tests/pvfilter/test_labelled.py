@@ -1,6 +1,8 @@
 """Filters scored on labelled scan files: the counting rule, the sweep, the command."""
 
+import contextlib
 import dataclasses
+import functools
 import json
 from typing import ClassVar
 
@@ -23,7 +25,7 @@ from pvfilter.labelled import (
 from pvfilter.registry import FilterEntry, filter_entry, register_filter, unregister_filter
 from pvfilter.synthetic import room_sequence
 
-STATIC, FLOOR, DYNAMIC, OCCLUDED = 1, 2, 5, 6
+STATIC, FLOOR, CEILING, DYNAMIC, OCCLUDED = 1, 2, 3, 5, 6
 
 
 def labelled_arrays(count=60):
@@ -51,18 +53,15 @@ class OracleParams:
     lidar_height_m: float = 0.25
 
 
-class Oracle:
-    """A stand-in filter that removes exactly the floor-line beams of the fixture."""
+class Removing:
+    """A stand-in filter without parameters that removes a fixed mask, scan by scan."""
 
-    seen_heights: ClassVar[list[float]] = []
-
-    def __init__(self, params=OracleParams()):
-        self.truth = labelled_arrays()[1]
+    def __init__(self, mask):
+        self.mask = mask
         self.count = 0
-        Oracle.seen_heights.append(params.lidar_height_m)
 
     def process(self, scan, **inputs):
-        removed = self.truth[self.count].copy()
+        removed = self.mask[self.count].copy()
         self.count += 1
         return type("Result", (), {"removed": removed, "scores": removed * 1.0})()
 
@@ -70,11 +69,29 @@ class Oracle:
         self.count = 0
 
 
+class Oracle(Removing):
+    """A stand-in filter that removes exactly the floor-line beams of the fixture."""
+
+    seen_heights: ClassVar[list[float]] = []
+
+    def __init__(self, params=OracleParams()):
+        super().__init__(labelled_arrays()[1])
+        Oracle.seen_heights.append(params.lidar_height_m)
+
+
+@contextlib.contextmanager
+def registered(entry):
+    """A stand-in filter registered for a test, and taken out after."""
+    try:
+        yield register_filter(entry)
+    finally:
+        unregister_filter(entry.name)
+
+
 @pytest.fixture
 def oracle():
-    entry = register_filter(FilterEntry("oracle", Oracle, OracleParams, "the labels"))
-    yield entry
-    unregister_filter("oracle")
+    with registered(FilterEntry("oracle", Oracle, OracleParams, "the labels")) as entry:
+        yield entry
 
 
 def test_the_labels_themselves_score_one_and_remove_no_static_beam(labelled_file, oracle):
@@ -199,6 +216,115 @@ def test_pooled_counts_are_the_sums(labelled_file, tmp_path):
     curve = pooled(reports)
     np.testing.assert_array_equal(curve.tp, np.add(reports[0].tp, reports[1].tp))
     assert min(r.auc for r in reports) <= curve.auc <= max(r.auc for r in reports) + 1e-9
+
+
+def removing(mask):
+    """The entry of a stand-in filter that removes ``mask`` (for :func:`registered`)."""
+    return FilterEntry("removing", functools.partial(Removing, mask), None, "a fixed mask")
+
+
+def test_the_per_scan_counts_are_the_beams_removed_in_each_scan(tmp_path):
+    arrays, truth = labelled_arrays()
+    labels, ranges = arrays["labels"], arrays["ranges"]
+    beams = np.arange(truth.shape[1])
+    wrong = (labels == STATIC) & (beams < 10)  # the first ten beams on a wall removed ...
+    wrong[1::2] = False  # ... in every other scan
+    labels[wrong & (beams < 3)] = 0  # three of them with a range but labelled NO_RETURN
+    ceiling = truth & (beams % 2 == 0)  # and half of each floor line a ceiling line
+    labels[ceiling] = CEILING
+    body = labels == OCCLUDED  # the body's beams, removed too, are not counted
+    found = truth & (beams % 3 != 0)  # two in three of the floor and ceiling beams
+    silent = truth & (beams % 3 == 1)  # of those, some without an echo, some past the reach
+    ranges[silent & (beams % 2 == 0)] = np.inf
+    ranges[silent & (beams % 2 == 1)] = 100.0
+    # counted: none of the silent beams
+    truth, found, ceiling = (mask & ~silent for mask in (truth, found, ceiling))
+    path = tmp_path / "room.npz"
+    np.savez(path, **arrays)
+    with registered(removing(found | silent | wrong | body)) as entry:
+        report = evaluate_labelled(path, entry, counts_per_scan=True)
+        unasked = evaluate_labelled(path, entry)
+    counts = report.per_scan
+    counted = (ranges < 100.0) & (labels != OCCLUDED)  # (inf and NaN compare False)
+    np.testing.assert_array_equal(counts.scan, np.arange(len(truth)))
+    np.testing.assert_array_equal(counts.stamp_s, arrays["stamps"])
+    np.testing.assert_array_equal(counts.beams, counted.sum(axis=1))
+    np.testing.assert_array_equal(counts.positives, (truth & counted).sum(axis=1))
+    np.testing.assert_array_equal(counts.hits, found.sum(axis=1))
+    np.testing.assert_array_equal(counts.false_alarms, (wrong & counted).sum(axis=1))
+    np.testing.assert_array_equal(counts.static_removed, (wrong & (labels == STATIC)).sum(axis=1))
+    assert counts.static_removed.sum() < counts.false_alarms.sum()
+    assert counts.false_alarms[0] > 0 and counts.false_alarms[1] == 0
+    np.testing.assert_array_equal(counts.removed, counts.hits + counts.false_alarms)
+    for name, beams_of in (("FLOOR", truth & ~ceiling), ("CEILING", ceiling)):
+        labelled, found_removed = counts.by_label[name]
+        np.testing.assert_array_equal(labelled, beams_of.sum(axis=1))
+        np.testing.assert_array_equal(found_removed, (beams_of & found).sum(axis=1))
+    assert counts.by_label["CEILING"][0].any() and not counts.by_label["HORIZONTAL"][0].any()
+    # the whole file's counts are the scans' summed
+    assert (counts.hits.sum(), counts.false_alarms.sum()) == (report.tp[0], report.fp[0])
+    assert counts.static_removed.sum() == report.static_removed
+    assert silent.any() and unasked.per_scan is None  # kept only where asked
+
+
+def test_the_per_scan_counts_follow_the_operating_point_and_the_kept_scans(labelled_file):
+    improved = filter_entry("improved")
+    report = evaluate_labelled(labelled_file, improved, counts_per_scan=True, every=3)
+    counts = report.per_scan
+    np.testing.assert_array_equal(counts.scan, np.arange(0, 60, 3))  # the file's indices
+    at = report.thresholds.index(report.operating_point)
+    assert counts.hits.sum() == report.tp[at] > 0
+    assert counts.false_alarms.sum() == report.fp[at]
+    assert counts.positives.sum() == report.positives and counts.beams.sum() == report.beams
+    looser = evaluate_labelled(
+        labelled_file, improved, fields={"p_th": 0.0}, counts_per_scan=True, every=3
+    )
+    assert looser.per_scan.removed.sum() >= counts.removed.sum()
+    assert looser.per_scan.removed.sum() == looser.tp[0] + looser.fp[0]
+
+
+def test_the_command_writes_a_per_scan_table_per_file_and_filter(labelled_file, tmp_path, capsys):
+    out = tmp_path / "report"
+    argv = ["eval-labels", str(labelled_file), "--out", str(out), "--per-scan"]
+    assert main(argv) == 0
+    assert "wrote 2 per-scan tables" in capsys.readouterr().out
+    document = json.loads((out / "report.json").read_text())
+    assert all("per_scan" not in row for row in document["files"])  # the tables hold them
+    for row in document["files"]:
+        lines = (out / "per_scan" / f"room.{row['filter']}.csv").read_text().splitlines()
+        header = lines[0].split(",")
+        assert header[:8] == [
+            "scan", "stamp_s", "beams", "positives", "removed", "hits", "false_alarms",
+            "static_removed",
+        ]  # fmt: skip
+        assert "horizontal_removed" in header and len(lines) == 1 + row["scans"]
+        table = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+        at = row["thresholds"].index(row["operating_point"])
+        assert table[:, header.index("hits")].sum() == row["tp"][at]
+        assert table[:, header.index("false_alarms")].sum() == row["fp"][at]
+    assert main(["eval-labels", str(labelled_file), "--per-scan"]) == 2  # without --out
+    assert "--per-scan: add --out DIR" in capsys.readouterr().err
+
+
+def test_each_per_scan_table_has_a_name_of_its_own(labelled_file, tmp_path, capsys):
+    # two files both named a/room, and a compared filter whose label has a space
+    for folder in ("x", "y"):
+        (tmp_path / folder / "a").mkdir(parents=True)
+        np.savez(tmp_path / folder / "a" / "room.npz", **labelled_arrays(30)[0])
+    out = tmp_path / "report"
+    (out / "per_scan").mkdir(parents=True)
+    (out / "per_scan" / "earlier.csv").write_text("scan\n0\n")  # an earlier run's table
+    files = [str(tmp_path / folder / "a" / "room.npz") for folder in ("x", "y")]
+    argv = ["eval-labels", *files, "--set", "p_th=0.3", "--compare", "improved"]
+    assert main([*argv, "--out", str(out), "--per-scan"]) == 0
+    assert "wrote 4 per-scan tables" in capsys.readouterr().out
+    written = sorted(path.name for path in (out / "per_scan").iterdir())
+    assert written == [
+        "a_room.improved-2.csv",
+        "a_room.improved.csv",
+        "a_room.improved_defaults-2.csv",
+        "a_room.improved_defaults.csv",
+    ]
 
 
 @pytest.mark.parametrize(
@@ -450,11 +576,21 @@ def test_a_clockwise_file_scores_as_the_same_scans_counter_clockwise(labelled_fi
     path = tmp_path / "clockwise.npz"
     np.savez(path, **(arrays | flipped | {"angle_min": start, "angle_increment": increment}))
     improved = filter_entry("improved")
-    plain, turned = evaluate_labelled(labelled_file, improved), evaluate_labelled(path, improved)
+    plain = evaluate_labelled(labelled_file, improved, counts_per_scan=True)
+    turned = evaluate_labelled(path, improved, counts_per_scan=True)
     assert (turned.beams, turned.positives) == (plain.beams, plain.positives)
     np.testing.assert_array_equal(turned.tp, plain.tp)
     np.testing.assert_array_equal(turned.fp, plain.fp)
     assert plain.auc > 0.9
+    # scan by scan the same, each at the file's own stamp (the reader moves a clockwise
+    # scan's stamp to its first beam's time)
+    for field in ("scan", "beams", "positives", "removed", "hits", "static_removed"):
+        np.testing.assert_array_equal(
+            getattr(turned.per_scan, field), getattr(plain.per_scan, field)
+        )
+    assert np.all(arrays["time_increment"] > 0.0)
+    np.testing.assert_array_equal(turned.per_scan.stamp_s, arrays["stamps"])
+    np.testing.assert_array_equal(plain.per_scan.stamp_s, arrays["stamps"])
 
 
 def cli_report(tmp_path, path, *options):
