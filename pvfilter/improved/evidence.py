@@ -265,24 +265,26 @@ class WorldStatic:
     def offsets_or_farther(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
     ) -> Offsets:
-        """:meth:`offsets`, and where they do not tell, those of :attr:`farther` that do
-        (by the sensor's own motion alone).
+        """:meth:`offsets`, and where they do not tell (or the baseline's scan saw no return
+        on the beam), those of :attr:`farther` that do, by the sensor's own motion alone.
 
         The test tells where the sensor moved along the beam by more than twice the
-        tolerance, which grows by 1 % of the range: over the baseline's 0.3 s a sensor at
-        0.5 m/s moves 0.15 m, which tells only within 4.5 m. A wall farther out that comes
+        tolerance, which grows by 1 % of the range: over the baseline's 0.3-0.4 s (the
+        oldest kept scan within 0.3 s of the scan before this one) a sensor at 0.5 m/s
+        moves 0.15-0.2 m, which tells only within 4.5-7 m. A wall farther out that comes
         into view (into the scanner's reach for its surface, or out from behind a floor
-        line a grazing plane met without an echo) stands where a floor line of a tilt of a
-        degree or two would, and the older scan tells it apart: it stayed put in the world
-        over the sensor's longer drive, where a floor line keeps its place in the sensor
-        frame. The older scan must have seen a return on the beam; where it saw free
-        space there, the wall is still told by neither.
+        line a grazing plane met without an echo) stands where a floor line would, and the
+        older scan, 1.0-1.1 s back, tells it apart: it stayed put in the world over the
+        sensor's longer drive, where a floor line keeps its place in the sensor frame. The
+        older scan must have seen a return on the beam; where it saw free space there, the
+        wall is still told by neither.
         """
         offsets = self.offsets(beams, floor_shift_m)
         if self.farther is None:
             return offsets
         older = self.farther.offsets(beams)
-        use = older.telling & ~offsets.telling & older.seen
+        # (where the baseline's scan saw no return on the beam it tells nothing either)
+        use = older.telling & older.seen & ~(offsets.telling & offsets.seen)
         if not np.count_nonzero(use):
             return offsets
         world_m = np.where(use, older.world_m, offsets.world_m)
@@ -309,7 +311,8 @@ class Offsets(NamedTuple):
 
 
 class Earlier(NamedTuple):
-    """The scan the world-static test compares with (:meth:`RecentScans.oldest`)."""
+    """A scan the world-static test compares with (:meth:`RecentScans.oldest`, and
+    :meth:`RecentScans.oldest_farther` for :attr:`WorldStatic.farther`)."""
 
     ranges: np.ndarray  # its ranges (mid-scan frame, unstretched), m
     since: Motion  # the motion from it to now

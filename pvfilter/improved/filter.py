@@ -608,8 +608,9 @@ class ImprovedPitchVariationFilter:
     ]:
         """New returns (in front of the level view moved into this scan's frame), returns
         seen through it (None where no return is new: no share of new returns is worked
-        out then), the view itself, the world-static test against the scans of the last
-        ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or, without an
+        out then), the view itself, the world-static test against the scan
+        ``STATIC_BASELINE_S`` back and the one ``STATIC_FAR_BASELINE_S`` back
+        (:meth:`_world_static`; None where there is nothing to compare with, or, without an
         IMU, no new return), and where a surface the view gave up is back
         (:meth:`~pvfilter.improved.memory.LevelView.surfaces_back`; None: nowhere). A
         surface back is not new: it stands where the view had it, not in free space.
