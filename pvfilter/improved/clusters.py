@@ -25,6 +25,13 @@ from pvfilter.scan import Scan
 CANDIDATE_SHARE = 0.25  # 1: segments that pass the gates and score above this are
 # candidate lines whatever p_th: the next ego-motion fit leaves them out, the level view
 # holds behind them, and with enough new points they mark the scan as tilted
+SILENT_VIEW_WEIGHT = 0.8  # 1: a claim's score on a return whose level view is free
+# only by silence (no echo there within range_max), against one in front of a surface the
+# view saw. Silence is weaker evidence of free space: a dark or far surface returns no
+# echo until the sensor comes near enough, and its first echoes then stand in front of
+# that free space where a floor line could. At 0.8 a line the evidence makes certain
+# (1.0) is still removed at the default p_th, and it ranks below the lines in front of
+# surfaces seen (see build_detection)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -191,6 +198,7 @@ def build_detection(
     if not scored:
         candidate = None
     else:
+        best = _weighed_by_view(best, segments, level_view_m)
         claim_scores[segments.beams] = best
         candidate = scores.gates & (scores.scores > CANDIDATE_SHARE)
     # a new return no line takes in ranks above the returns the view knows: pitch
@@ -224,6 +232,27 @@ def build_detection(
         level_view_m=level_view_m,
         coasted=coasted,
     )
+
+
+def _weighed_by_view(
+    best: np.ndarray, segments: Segments, level_view_m: np.ndarray | None
+) -> np.ndarray:
+    """The claims' scores per valid point, those whose level view is free by silence alone
+    (``+inf``) at ``SILENT_VIEW_WEIGHT`` of theirs.
+
+    On the tenth independent generator's sequences, of the returns scored above 0.1 in
+    front of a view free by silence 58 % were pitch variation, against 82 % of those in
+    front of a surface the view saw: the far wall a scanner comes within reach of, and a
+    garage's wall behind a ramp's floor a grazing plane met without an echo, ranked with
+    the surest floor lines. The weight ranks them below those, and leaves the filter's
+    state alone: it carries nothing of the claims' scores to the next scan.
+    """
+    if level_view_m is None:
+        return best
+    silent = level_view_m.take(segments.beams) == np.inf
+    if not np.count_nonzero(silent):  # (most scans)
+        return best
+    return np.where(silent, SILENT_VIEW_WEIGHT * best, best)
 
 
 def _cluster_set(

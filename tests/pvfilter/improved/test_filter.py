@@ -1117,10 +1117,13 @@ def test_a_dark_wall_far_ahead_is_told_by_the_older_scan():
     # driving at 0.5 m/s towards a wall that, once within 8 m, echoes in bursts of three
     # scans a second (a dark surface near the reach of a 12 m scanner): the level view
     # took its silence for free space, and the wall stands in front of it where a floor
-    # line of a 1.8 deg tilt would. The scan 0.3 s back saw nothing there; the older
-    # scan, a second back, saw the wall, and the sensor's 0.5 m since tells that it
-    # stayed put (over 0.3 s the 0.15 m tells only within 4.5 m). Without it (the
-    # baseline's scan only) the wall is removed in those scans too.
+    # line of a 1.8 deg tilt would. The scan 0.3-0.4 s back saw nothing there. In the
+    # second burst the older scan, 1.1 s back, saw the wall on the burst's second and
+    # third scans, and the sensor's 0.55 m since tells that it stayed put (0.15-0.2 m
+    # tell only within 4.5-7 m). Without it (the baseline's scan only) the wall is
+    # removed in those two scans too. Either way the first burst, and each burst's first
+    # scan, whose older scan was silent, are removed, and by the third burst's second
+    # scan the level view has settled onto the wall.
     room = room_segments(14.0, 0.5, 2.5, 2.5)
     params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
     with_older, baseline_only = (
