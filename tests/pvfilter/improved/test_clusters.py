@@ -1,6 +1,7 @@
 """Claim scores per beam: a line's returns in front of a view free by silence alone."""
 
 import math
+import types
 
 import numpy as np
 
@@ -26,20 +27,20 @@ FLOOR = np.array(
 )
 
 
-def run_standing(frames=14):
-    """The results of a standing sensor's scans, level and then pitched, and per frame which
-    beams hit the floor."""
-    pvf = ImprovedPitchVariationFilter(
-        ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M)
-    )
+def run_standing(frames=14, p_th=0.5):
+    """The results of a standing sensor's scans, level, pitched from frame 12 to 19 and
+    level again, and per frame which beams hit the floor."""
+    params = ImprovedParams(lidar_height_m=HEIGHT_M, axle_height_m=HEIGHT_M, p_th=p_th)
+    pvf = ImprovedPitchVariationFilter(params)
     results, on_floor = [], []
     for k in range(frames):
-        structure = WALLS if k < 12 else np.concatenate((WALLS, FLOOR))
+        pitched = 12 <= k < 20
+        structure = np.concatenate((WALLS, FLOOR)) if pitched else WALLS
         scan = segment_scan(structure, stamp=0.1 * k, noise_m=0.005,
                             rng=np.random.default_rng(k), blocked=BLOCKED_SECTOR)  # fmt: skip
         results.append(pvf.process(scan))
         hit = ray_cast(FLOOR, scan.angles()) < ray_cast(WALLS, scan.angles())
-        on_floor.append(hit & np.isfinite(scan.ranges) & (k >= 12))
+        on_floor.append(hit & np.isfinite(scan.ranges) & pitched)
     return results, on_floor
 
 
@@ -60,9 +61,9 @@ def test_a_line_ranks_its_returns_in_front_of_silence_below_those_in_front_of_a_
 
 
 def test_the_weight_changes_the_scores_and_nothing_the_filter_carries(monkeypatch):
-    weighed, _ = run_standing(frames=20)
+    weighed, _ = run_standing(frames=28)  # level again after the tilt: the view learns
     monkeypatch.setattr(clusters, "SILENT_VIEW_WEIGHT", 1.0)
-    unweighed, _ = run_standing(frames=20)
+    unweighed, _ = run_standing(frames=28)
     assert any(
         not np.array_equal(a.scores, b.scores) for a, b in zip(weighed, unweighed, strict=True)
     )
@@ -72,3 +73,29 @@ def test_the_weight_changes_the_scores_and_nothing_the_filter_carries(monkeypatc
         assert a.lines.tilted == b.lines.tilted and a.lines.motion == b.lines.motion
         differ = a.scores != b.scores  # only where the view is free by silence
         assert not np.any(differ & ~np.isposinf(a.lines.level_view_m))
+
+
+def test_a_detected_cluster_holds_only_the_returns_it_removes():
+    # at p_th 0.85 the floor line (score 0.99) is detected, and its returns in front of the
+    # gap, weighed to 0.79, are not removed: they leave the cluster and join none
+    results, on_floor = run_standing(p_th=0.85)
+    result, floor = results[12], on_floor[12]
+    silent = floor & np.isposinf(result.lines.level_view_m)
+    assert silent.sum() > 20 and not result.removed[silent].any()
+    assert result.removed[floor & ~silent].all()
+    detected = [record for record in result.clusters if record.detected]
+    assert len(detected) == 1
+    np.testing.assert_array_equal(detected[0].indices, np.flatnonzero(result.removed))
+    assert detected[0].size == np.count_nonzero(result.removed)
+    clustered = np.concatenate([record.indices for record in result.clusters])
+    assert not np.isin(np.flatnonzero(silent), clustered).any()
+
+
+def test_only_a_view_free_by_silence_weighs_a_claim_down():
+    # a surface seen (2 m), free by silence (+inf), unknown (NaN: never new, nothing known)
+    segments = types.SimpleNamespace(beams=np.array([0, 1, 2, 3]))
+    view = np.array([2.0, np.inf, np.nan, np.inf, 5.0])
+    weighed = clusters._weighed_by_view(np.ones(4), segments, view)
+    weight = clusters.SILENT_VIEW_WEIGHT
+    np.testing.assert_array_equal(weighed, [1.0, weight, 1.0, weight])
+    assert clusters._weighed_by_view(np.ones(4), segments, None).tolist() == [1.0] * 4
