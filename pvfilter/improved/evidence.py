@@ -31,6 +31,8 @@ STANDING_FALL_SHARE = 0.25  # beyond the steepest tilt a standing body could hol
 STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of the same
 # surface lies (range noise of two measurements, plus the motion's or the level view's
 # error; plus 1 % of the range): the world-static test, and a return on the level view
+STATIC_FAR_BASELINE_S = 1.0  # s: where the scan within the baseline does not tell, the
+# test asks the oldest kept scan up to this long ago (see WorldStatic.farther)
 MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
 # test does not tell (a grazing beam slides along its surface)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far
@@ -181,6 +183,9 @@ class WorldStatic:
         first_step_s: the time from the earlier scan to the scan after it, s.
         first_speed_mps: the sensor's mean speed over that step, m/s (inf: unknown).
             By default the history is unknown, and no tilt is too steep to hold.
+        farther: the same test against an older scan, up to ``STATIC_FAR_BASELINE_S``
+            back (None: none older kept), asked where this one does not tell
+            (:meth:`offsets_or_farther`).
     """
 
     ranges: np.ndarray
@@ -193,6 +198,7 @@ class WorldStatic:
     span_s: float = 0.0
     first_step_s: float = 0.0
     first_speed_mps: float = math.inf
+    farther: WorldStatic | None = None
 
     @property
     def hold_tilt_rad(self) -> float:
@@ -256,6 +262,34 @@ class WorldStatic:
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         return Offsets(ranges - (earlier + moved), telling, tolerance)
 
+    def offsets_or_farther(
+        self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
+    ) -> Offsets:
+        """:meth:`offsets`, and where they do not tell (or the baseline's scan saw no return
+        on the beam), those of :attr:`farther` that do, by the sensor's own motion alone.
+
+        The test tells where the sensor moved along the beam by more than twice the
+        tolerance, which grows by 1 % of the range: over the baseline's 0.3-0.4 s (the
+        oldest kept scan within 0.3 s of the scan before this one) a sensor at 0.5 m/s
+        moves 0.15-0.2 m, which tells only within 4.5-7 m. A wall farther out that comes
+        into view (into the scanner's reach for its surface, or out from behind a floor
+        line a grazing plane met without an echo) stands where a floor line would, and the
+        older scan, 1.0-1.1 s back, tells it apart: it stayed put in the world over the
+        sensor's longer drive, where a floor line keeps its place in the sensor frame. The
+        older scan must have seen a return on the beam; where it saw free space there, the
+        wall is still told by neither.
+        """
+        offsets = self.offsets(beams, floor_shift_m)
+        if self.farther is None:
+            return offsets
+        older = self.farther.offsets(beams)
+        # (where the baseline's scan saw no return on the beam it tells nothing either)
+        use = older.telling & older.seen & ~(offsets.telling & offsets.seen)
+        if not np.count_nonzero(use):
+            return offsets
+        world_m = np.where(use, older.world_m, offsets.world_m)
+        return Offsets(world_m, offsets.telling | use, offsets.tolerance_m)
+
 
 class Offsets(NamedTuple):
     """Where returns lie against an earlier scan (:meth:`WorldStatic.offsets`), per beam
@@ -277,7 +311,8 @@ class Offsets(NamedTuple):
 
 
 class Earlier(NamedTuple):
-    """The scan the world-static test compares with (:meth:`RecentScans.oldest`)."""
+    """A scan the world-static test compares with (:meth:`RecentScans.oldest`, and
+    :meth:`RecentScans.oldest_farther` for :attr:`WorldStatic.farther`)."""
 
     ranges: np.ndarray  # its ranges (mid-scan frame, unstretched), m
     since: Motion  # the motion from it to now
@@ -297,17 +332,19 @@ class _Kept(NamedTuple):
 
 
 class RecentScans:
-    """The ranges of the scans of the last ``baseline_s`` seconds (mid-scan frame,
+    """The ranges of the scans of the last ``far_baseline_s`` seconds (mid-scan frame,
     unstretched) and where the sensor was for each: what the world-static test compares
-    with.
+    with, the scan ``baseline_s`` back and, for the returns that one does not tell, the
+    oldest kept.
 
     The sensor's pose is kept as the motion from a fixed frame (the first scan's) to each
     scan's, so a scan costs one composition, and the motion between two of them is
     worked out only when asked for.
     """
 
-    def __init__(self, baseline_s: float) -> None:
+    def __init__(self, baseline_s: float, far_baseline_s: float | None = None) -> None:
         self.baseline_s = baseline_s
+        self.far_baseline_s = baseline_s if far_baseline_s is None else far_baseline_s
         self.scans: list[_Kept] = []
         self.pose = Motion()  # the fixed frame -> the latest scan's
         self.unseen_steps = 0  # steps so far whose drive the matches could not see
@@ -325,23 +362,44 @@ class RecentScans:
         self.unseen_steps += not seen
 
     def oldest(self, stamp: float) -> Earlier | None:
-        """The oldest kept scan, seen from the scan now at ``stamp`` (None: none kept)."""
+        """The oldest kept scan within ``baseline_s`` of the latest kept one, seen from
+        the scan now at ``stamp`` (None: none kept)."""
         if not self.scans:
             return None
-        earliest = self.scans[0]
+        return self._earlier(self._first_within(self.baseline_s), stamp)
+
+    def oldest_farther(self, stamp: float) -> Earlier | None:
+        """The oldest kept scan, where it is older than :meth:`oldest`'s, seen from the
+        scan now at ``stamp`` (None: no such scan)."""
+        if not self.scans or self._first_within(self.baseline_s) == 0:
+            return None
+        return self._earlier(0, stamp)
+
+    def add(self, stamp: float, ranges: np.ndarray) -> None:
+        """Take the scan now in, and drop those older than ``far_baseline_s`` (keeping
+        one)."""
+        self.scans.append(_Kept(stamp, ranges, self.pose, self.unseen_steps))
+        while stamp - self.scans[0].stamp > self.far_baseline_s:
+            self.scans.pop(0)
+
+    def _first_within(self, span_s: float) -> int:
+        """The index of the oldest kept scan within ``span_s`` of the latest kept one."""
+        latest = self.scans[-1].stamp
+        index = 0
+        while latest - self.scans[index].stamp > span_s:
+            index += 1
+        return index
+
+    def _earlier(self, index: int, stamp: float) -> Earlier:
+        """The kept scan ``index``, seen from the scan now at ``stamp``."""
+        earliest = self.scans[index]
         since = earliest.pose.inverse().then(self.pose)
         # the first step after it: to the next kept scan, or to now
         after_stamp, after_pose = stamp, self.pose
-        if len(self.scans) > 1:
-            after_stamp, after_pose = self.scans[1].stamp, self.scans[1].pose
+        if len(self.scans) > index + 1:
+            after_stamp, after_pose = self.scans[index + 1].stamp, self.scans[index + 1].pose
         first_step_s = after_stamp - earliest.stamp
         first_m = earliest.pose.inverse().then(after_pose).translation_m
         speed = first_m / first_step_s if first_step_s > 0.0 else math.inf
         seen = earliest.unseen_before == self.unseen_steps
         return Earlier(earliest.ranges, since, seen, stamp - earliest.stamp, first_step_s, speed)
-
-    def add(self, stamp: float, ranges: np.ndarray) -> None:
-        """Take the scan now in, and drop those older than ``baseline_s`` (keeping one)."""
-        self.scans.append(_Kept(stamp, ranges, self.pose, self.unseen_steps))
-        while stamp - self.scans[0].stamp > self.baseline_s:
-            self.scans.pop(0)

@@ -37,6 +37,7 @@ from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
 from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
+    STATIC_FAR_BASELINE_S,
     STATIC_TOLERANCE_M,
     RecentScans,
     WorldStatic,
@@ -173,7 +174,7 @@ class ImprovedPitchVariationFilter:
         self._line_params = self.params  # and the roll its confident lines measured
         self._segment_params = self.params  # and the lean that roll gives a floor line
         self._previous_stamp: float | None = None
-        self._recent = RecentScans(STATIC_BASELINE_S)
+        self._recent = RecentScans(STATIC_BASELINE_S, STATIC_FAR_BASELINE_S)
         self._attitude = AttitudeTrack(self.params)
         self._follower = FloorFollower(self.params)
         self._travelled: LinePlace | None = None  # the floor line last found travelling
@@ -607,8 +608,9 @@ class ImprovedPitchVariationFilter:
     ]:
         """New returns (in front of the level view moved into this scan's frame), returns
         seen through it (None where no return is new: no share of new returns is worked
-        out then), the view itself, the world-static test against the scans of the last
-        ``STATIC_BASELINE_S`` (None where there is nothing to compare with, or, without an
+        out then), the view itself, the world-static test against the scan
+        ``STATIC_BASELINE_S`` back and the one ``STATIC_FAR_BASELINE_S`` back
+        (:meth:`_world_static`; None where there is nothing to compare with, or, without an
         IMU, no new return), and where a surface the view gave up is back
         (:meth:`~pvfilter.improved.memory.LevelView.surfaces_back`; None: nowhere). A
         surface back is not new: it stands where the view had it, not in free space.
@@ -680,22 +682,37 @@ class ImprovedPitchVariationFilter:
         # tested: a scan with no new return (most) has no use for the test then (with an
         # IMU every gated line is)
         tested = through is not None or self._attitude.current is not None
-        earlier = self._recent.oldest(scan.stamp) if tested else None
         static = None
-        if earlier is not None:
-            static = WorldStatic(
-                level_ranges,
-                earlier.ranges,
-                directions,
-                layout,
-                earlier.since,
-                STATIC_TOLERANCE_M,
-                earlier.travel_seen,
-                earlier.span_s,
-                earlier.first_step_s,
-                earlier.first_speed_mps,
-            )
+        if tested:
+            static = self._world_static(scan.stamp, level_ranges, directions)
         return new, through, view, static, back
+
+    def _world_static(
+        self, stamp: float, level_ranges: np.ndarray, directions: np.ndarray
+    ) -> WorldStatic | None:
+        """The world-static test of the scan now against the kept scan ``STATIC_BASELINE_S``
+        back, and against the oldest kept (``STATIC_FAR_BASELINE_S``) where that one is
+        older (None: no scan kept)."""
+        tests = []
+        for earlier in (self._recent.oldest_farther(stamp), self._recent.oldest(stamp)):
+            if earlier is None:
+                continue
+            tests.append(
+                WorldStatic(
+                    level_ranges,
+                    earlier.ranges,
+                    directions,
+                    self._layout,
+                    earlier.since,
+                    STATIC_TOLERANCE_M,
+                    earlier.travel_seen,
+                    earlier.span_s,
+                    earlier.first_step_s,
+                    earlier.first_speed_mps,
+                    tests[-1] if tests else None,
+                )
+            )
+        return tests[-1] if tests else None
 
     def _reanchor(
         self,

@@ -43,7 +43,8 @@ class ImprovedResult(FilterResult):
         scan: the input scan with removed beams set to NaN (same length).
         removed: bool per beam: ``scores > p_th``.
         scores: per beam, the claim score: the best score of the lines that take the beam
-            in, at least ``new_return_score`` (0.01) on a new return
+            in (``SILENT_VIEW_WEIGHT``, 0.8, of it where the level view is free by silence
+            alone), at least ``new_return_score`` (0.01) on a new return
             (:mod:`pvfilter.improved.clusters`); the beam is removed exactly when it
             exceeds ``p_th``, whatever ``p_th``.
         lines: the per-cluster and per-beam detail.

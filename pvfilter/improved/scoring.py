@@ -574,7 +574,7 @@ def _world_static_share(
     labels = segments.labels.take(points)
     change = standing_pitch_change(tilt, static.hold_tilt_rad)
     shift = floor_shift(tilt, change, params).take(labels)
-    offsets = static.offsets(segments.beams.take(points), shift)
+    offsets = static.offsets_or_farther(segments.beams.take(points), shift)
     seen_beams = offsets.seen  # (a property: worked out once here)
     told = np.bincount(labels, offsets.telling & seen_beams, k)
     seen = np.bincount(labels, seen_beams, k)

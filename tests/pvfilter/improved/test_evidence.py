@@ -17,7 +17,7 @@ from pvfilter.improved.evidence import (
 )
 from pvfilter.improved.geometry import floor_shift
 
-from .conftest import room_scan
+from .conftest import HEIGHT_M, room_scan
 
 PARAMS = ImprovedParams()
 
@@ -188,6 +188,74 @@ def test_a_floor_line_held_through_a_turn_in_place_never_counts_as_staying_put()
     floor = on_floor[beams]
     assert telling[floor].sum() > 50 and not static[floor].any()
     assert telling[~floor].sum() > 100 and static[~floor & telling].all()
+
+
+def test_a_far_wall_the_baseline_cannot_tell_is_told_against_an_older_scan():
+    # over the baseline the sensor drove 5 cm: within twice the tolerance (3 cm plus 1 %
+    # of the range) at any range, so nothing tells; over the older scan's span it drove
+    # 0.5 m, and the walls ahead and behind tell: they stayed put in the world. A floor
+    # line held 2.5 m ahead travels with the sensor, and the older scan tells that too.
+    pitch = math.atan2(HEIGHT_M, 2.5)
+    now, on_floor = room_scan((0.5, 0.0, 0.0), pitch, noise_m=0.0)
+    recent, _ = room_scan((0.45, 0.0, 0.0), pitch, noise_m=0.0)
+    older, _ = room_scan((0.0, 0.0, 0.0), pitch, noise_m=0.0)
+    layout, directions = BeamLayout.of(now), directions_of(now)
+    beams = np.flatnonzero(now.valid_mask())
+
+    def test_against(earlier, drive_m, farther=None):
+        return WorldStatic(ranges_of(now), ranges_of(earlier), directions, layout,
+                           Motion(tx_m=-drive_m), 0.03, farther=farther)  # fmt: skip
+
+    short = test_against(recent, 0.05)
+    assert not short.offsets(beams).telling.any()
+    both = test_against(recent, 0.05, farther=test_against(older, 0.5))
+    static, telling = verdict(both.offsets_or_farther(beams))
+    floor, walls = on_floor[beams], ~on_floor[beams]
+    assert telling[walls].sum() > 100 and telling[floor].sum() > 50
+    assert static[walls & telling].mean() > 0.9 and not static[floor].any()
+    # where the baseline's own scan tells, its verdict stands; without an older scan it
+    # is all there is
+    driven = test_against(room_scan((0.2, 0.0, 0.0), pitch, noise_m=0.0)[0], 0.3,
+                          farther=test_against(older, 0.5))  # fmt: skip
+    alone, merged = driven.offsets(beams), driven.offsets_or_farther(beams)
+    assert alone.telling.sum() > 100
+    np.testing.assert_array_equal(merged.world_m[alone.telling], alone.world_m[alone.telling])
+    assert np.array_equal(short.offsets_or_farther(beams).telling, short.offsets(beams).telling)
+
+
+def test_the_older_scan_tells_only_where_it_saw_a_return():
+    # the older scan saw nothing on the beams ahead (a wall beyond its reach then, or a
+    # dark one that echoed on other scans only): there it tells nothing either way
+    now, _ = room_scan((0.5, 0.0, 0.0), noise_m=0.0)
+    older, _ = room_scan((0.0, 0.0, 0.0), noise_m=0.0)
+    ahead = np.abs(older.angles()) < math.radians(30.0)
+    silent = older.with_ranges(np.where(ahead, np.inf, older.ranges))
+    layout, directions = BeamLayout.of(now), directions_of(now)
+    beams = np.flatnonzero(now.valid_mask())
+    farther = WorldStatic(ranges_of(now), ranges_of(silent), directions, layout,
+                          Motion(tx_m=-0.5), 0.03)  # fmt: skip
+    test = WorldStatic(ranges_of(now), ranges_of(now), directions, layout, Motion(), 0.03,
+                       farther=farther)  # fmt: skip
+    told = test.offsets_or_farther(beams).telling
+    assert not told[ahead[beams]].any() and told[~ahead[beams]].sum() > 50
+
+
+def test_recent_scans_keep_an_older_scan_for_the_far_returns():
+    recent, alone = RecentScans(0.25, 1.0), RecentScans(0.25)
+    for k in range(16):  # 10 Hz, 0.1 m a scan
+        for kept in (recent, alone):
+            kept.advance(Motion(tx_m=-0.1))
+        earlier, farther = recent.oldest(0.1 * k), recent.oldest_farther(0.1 * k)
+        baseline = alone.oldest(0.1 * k)
+        for kept in (recent, alone):
+            kept.add(0.1 * k, np.full(3, float(k)))
+    assert earlier.ranges[0] == baseline.ranges[0] == 12.0  # the baseline's, as before
+    assert earlier.since.tx_m == pytest.approx(baseline.since.tx_m)
+    assert farther.ranges[0] == 4.0 and farther.span_s == pytest.approx(1.1)
+    assert farther.since.tx_m == pytest.approx(-1.1) and farther.first_step_s == pytest.approx(0.1)
+    assert alone.oldest_farther(1.6) is None  # nothing kept beyond the baseline
+    recent.clear()
+    assert recent.oldest_farther(1.6) is None and recent.oldest(1.6) is None
 
 
 def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
