@@ -31,8 +31,8 @@ STANDING_FALL_SHARE = 0.25  # beyond the steepest tilt a standing body could hol
 STATIC_TOLERANCE_M = 0.03  # m: how near where it was seen before a return of the same
 # surface lies (range noise of two measurements, plus the motion's or the level view's
 # error; plus 1 % of the range): the world-static test, and a return on the level view
-STATIC_FAR_BASELINE_S = 1.0  # s: where the scan within the baseline does not tell, the
-# test asks the oldest kept scan up to this long ago (see WorldStatic.farther)
+STATIC_FAR_BASELINE_S = 1.0  # s: where the scan within the baseline does not tell (or saw
+# no return), the test asks the oldest kept scan up to this long ago (WorldStatic.farther)
 MIN_FACING = 0.3  # cosine between beam and surface normal below which the world-static
 # test does not tell (a grazing beam slides along its surface)
 WINDOW_BEAMS = 1  # beams: a beam's level view is the nearest of its neighbours this far
@@ -184,8 +184,8 @@ class WorldStatic:
         first_speed_mps: the sensor's mean speed over that step, m/s (inf: unknown).
             By default the history is unknown, and no tilt is too steep to hold.
         farther: the same test against an older scan, up to ``STATIC_FAR_BASELINE_S``
-            back (None: none older kept), asked where this one does not tell
-            (:meth:`offsets_or_farther`).
+            back (None: none older kept), asked where this one does not tell or its scan
+            saw no return on the beam (:meth:`offsets_or_farther`).
     """
 
     ranges: np.ndarray
