@@ -280,11 +280,12 @@ class WorldStatic:
         wall is still told by neither.
         """
         offsets = self.offsets(beams, floor_shift_m)
-        if self.farther is None:
+        # (where the baseline's scan saw no return on the beam it tells nothing either)
+        untold = ~(offsets.telling & offsets.seen)
+        if self.farther is None or not np.count_nonzero(untold):
             return offsets
         older = self.farther.offsets(beams)
-        # (where the baseline's scan saw no return on the beam it tells nothing either)
-        use = older.telling & older.seen & ~(offsets.telling & offsets.seen)
+        use = older.telling & older.seen & untold
         if not np.count_nonzero(use):
             return offsets
         world_m = np.where(use, older.world_m, offsets.world_m)

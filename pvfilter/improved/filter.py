@@ -39,6 +39,7 @@ from pvfilter.improved.egomotion import MAX_SPEED_MPS, SEEN, EgoMotion, Match
 from pvfilter.improved.evidence import (
     STATIC_FAR_BASELINE_S,
     STATIC_TOLERANCE_M,
+    Earlier,
     RecentScans,
     WorldStatic,
     free_space_evidence,
@@ -691,28 +692,36 @@ class ImprovedPitchVariationFilter:
         self, stamp: float, level_ranges: np.ndarray, directions: np.ndarray
     ) -> WorldStatic | None:
         """The world-static test of the scan now against the kept scan ``STATIC_BASELINE_S``
-        back, and against the oldest kept (``STATIC_FAR_BASELINE_S``) where that one is
-        older (None: no scan kept)."""
-        tests = []
-        for earlier in (self._recent.oldest_farther(stamp), self._recent.oldest(stamp)):
-            if earlier is None:
-                continue
-            tests.append(
-                WorldStatic(
-                    level_ranges,
-                    earlier.ranges,
-                    directions,
-                    self._layout,
-                    earlier.since,
-                    STATIC_TOLERANCE_M,
-                    earlier.travel_seen,
-                    earlier.span_s,
-                    earlier.first_step_s,
-                    earlier.first_speed_mps,
-                    tests[-1] if tests else None,
-                )
-            )
-        return tests[-1] if tests else None
+        back, with the oldest kept (``STATIC_FAR_BASELINE_S``) as its ``farther`` where
+        that one is older (None: no scan kept)."""
+        earlier = self._recent.oldest(stamp)
+        if earlier is None:
+            return None
+        older = self._recent.oldest_farther(stamp)
+        farther = None if older is None else self._test_against(older, level_ranges, directions)
+        return self._test_against(earlier, level_ranges, directions, farther)
+
+    def _test_against(
+        self,
+        earlier: Earlier,
+        level_ranges: np.ndarray,
+        directions: np.ndarray,
+        farther: WorldStatic | None = None,
+    ) -> WorldStatic:
+        """The world-static test of the scan now against the kept scan ``earlier``."""
+        return WorldStatic(
+            level_ranges,
+            earlier.ranges,
+            directions,
+            self._layout,
+            earlier.since,
+            STATIC_TOLERANCE_M,
+            earlier.travel_seen,
+            earlier.span_s,
+            earlier.first_step_s,
+            earlier.first_speed_mps,
+            farther,
+        )
 
     def _reanchor(
         self,
