@@ -75,15 +75,17 @@ def filter_options(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str
         fields["clustering"] = args.clustering
     if args.detection_only:
         fields["tracking"] = False
-    fields.update(dict(setting(text) for text in args.set or ()))
+    given_as = {key: f"--{key.replace('_', '-')}" for key in fields}  # (how each was given)
+    for text in args.set or ():
+        key, value = setting(text)
+        fields[key], given_as[key] = value, f"--set {text}"
     if args.threaded and entry.name != "paper":
         raise ValueError(f"--threaded: the two-thread form is the paper filter's, not {entry.name}")
     if fields and params is None:
         raise ValueError(f"filter {entry.name!r} takes no parameters")
     for key in fields:
         if key not in _takes(params):
-            flag = key.replace("_", "-")
-            raise ValueError(f"--{flag}: filter {entry.name!r} has no parameter {key}")
+            raise ValueError(f"{given_as[key]}: filter {entry.name!r} has no parameter {key}")
     if args.lidar_height is not None and "lidar_height_m" not in _takes(params):
         raise ValueError(f"--lidar-height: filter {entry.name!r} does not use the LiDAR's height")
     return entry, params, fields

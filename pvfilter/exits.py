@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from collections.abc import Callable
 
 EXIT_USAGE = 2
@@ -22,7 +23,8 @@ def run_command(
     """``work()``'s exit status; a user mistake ends in ``"<prog>: error: <what>"`` and 2,
     a Ctrl-C in ``"<prog>: <interrupted>"`` and 130, both on stderr. Output piped into a
     reader that stopped early (``| head``) ends the command quietly with 141, as a Unix
-    tool ends.
+    tool ends. A warning the work raises (a stamp that went back, a geometry not given)
+    is one line too, ``"<prog>: warning: <what>"``, without Python's source path and code.
 
     Args:
         prog: the command's name, as its messages start.
@@ -31,7 +33,9 @@ def run_command(
         mistakes: the exceptions that are the user's to fix (their message names what).
     """
     try:
-        return work()
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(prog)
+            return work()
     except KeyboardInterrupt:
         print(f"{prog}: {interrupted}", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -41,6 +45,15 @@ def run_command(
     except mistakes as error:
         print(f"{prog}: error: {_what(error)}", file=sys.stderr)
         return EXIT_USAGE
+
+
+def _one_line_warnings(prog: str) -> Callable[..., None]:
+    """A ``warnings.showwarning`` that prints ``"<prog>: warning: <message>"`` on stderr."""
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        print(f"{prog}: warning: {message}", file=file or sys.stderr)
+
+    return show
 
 
 def _what(error: BaseException) -> str:

@@ -105,6 +105,8 @@ def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> 
     if missing:
         raise ValueError(f"{source}: {missing[0]}: missing (required: {', '.join(REQUIRED_KEYS)})")
     ranges = np.asarray(arrays["ranges"])
+    if ranges.dtype.kind not in "biuf":  # (text, objects: named, not failed on later)
+        raise ValueError(f"{source}: ranges: must be numbers, got {ranges.dtype}")
     if ranges.ndim != 2:
         raise ValueError(f"{source}: ranges: must be 2-D (scans, beams), got shape {ranges.shape}")
     count = len(ranges)
@@ -205,11 +207,17 @@ def save_results(
 
 
 def write_atomically(path: str | Path, write: Callable[[BinaryIO], object]) -> None:
-    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``."""
+    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``.
+
+    The file gets the permissions a plain ``open`` would give it (``0o666`` less the
+    process's umask): ``mkstemp`` makes it readable by its owner alone, and a filtered log
+    that the robot's other users and nodes cannot read is no use to them.
+    """
     path = Path(path)
     prefix = f".{path.name}."
     handle, temporary = tempfile.mkstemp(prefix=prefix, suffix=".partial", dir=path.parent)
     try:
+        os.chmod(temporary, 0o666 & ~_umask())
         with os.fdopen(handle, "wb") as file:
             write(file)
         os.replace(temporary, path)
@@ -218,14 +226,31 @@ def write_atomically(path: str | Path, write: Callable[[BinaryIO], object]) -> N
         raise
 
 
+def _umask() -> int:
+    """The process's umask (read by setting it, and set back at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _per_scan(arrays: dict[str, np.ndarray], key: str, count: int, source: str) -> np.ndarray:
-    values = np.asarray(arrays[key], dtype=np.float64)
+    values = _numbers(arrays, key, source)
     if values.shape not in ((), (count,)):
         raise ValueError(
             f"{source}: {key}: must be one value or one per scan ({count}), "
             f"got shape {values.shape}"
         )
     return np.broadcast_to(values, (count,))
+
+
+def _numbers(arrays: dict[str, np.ndarray], key: str, source: str) -> np.ndarray:
+    """``arrays[key]`` as float64; a field of text or objects is named, not a bare
+    ``could not convert string to float``."""
+    try:
+        return np.asarray(arrays[key], dtype=np.float64)
+    except (TypeError, ValueError):
+        kind = np.asarray(arrays[key]).dtype
+        raise ValueError(f"{source}: {key}: must be numbers, got {kind}") from None
 
 
 def _stack(rows: list[np.ndarray], beams: int, dtype: type) -> np.ndarray:

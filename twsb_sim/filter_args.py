@@ -65,7 +65,9 @@ def filter_from_args(args: argparse.Namespace, scenario: Scenario) -> FrameFilte
             params = load_params(args.filter_params)
             entry = entry_for_params(params)
         except (OSError, ValueError) as error:
-            raise ConfigError(args.filter_params, "", str(error)) from None
+            # (the reader's messages name the file already; the error names it once)
+            message = str(error).removeprefix(f"{args.filter_params}: ")
+            raise ConfigError(args.filter_params, "", message) from None
         if name is not None and name != entry.name:
             message = f"holds parameters of {entry.name!r}, not of --filter {name!r}"
             raise ConfigError(args.filter_params, "", message)

@@ -2,6 +2,7 @@
 
 import subprocess
 import sys
+import warnings
 
 from pvfilter.exits import EXIT_INTERRUPTED, EXIT_PIPE_CLOSED, EXIT_USAGE, run_command
 
@@ -54,3 +55,16 @@ def test_output_into_a_reader_that_stops_early_ends_quietly():
     stderr = reader.stderr.read()
     assert reader.wait(timeout=60) == EXIT_PIPE_CLOSED
     assert stderr == b""
+
+
+def test_a_warning_is_one_line_naming_the_command(capsys):
+    def work():
+        warnings.warn("scan stamp 2.0 s is earlier than the previous 3.0 s", stacklevel=1)
+        return 0
+
+    before = warnings.showwarning
+    assert run_command("pvfilter", work) == 0
+    assert capsys.readouterr().err == (
+        "pvfilter: warning: scan stamp 2.0 s is earlier than the previous 3.0 s\n"
+    )
+    assert warnings.showwarning is before  # restored: later warnings are shown as before
