@@ -71,11 +71,11 @@ def filter_options(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str
         entry = filter_entry(name or "paper")
         params = entry.default_params()
     fields = {f.name: getattr(args, f.name) for f in SYMBOLS if getattr(args, f.name) is not None}
-    if args.clustering:
-        fields["clustering"] = args.clustering
-    if args.detection_only:
-        fields["tracking"] = False
     given_as = {key: f"--{key.replace('_', '-')}" for key in fields}  # (how each was given)
+    if args.clustering:
+        fields["clustering"], given_as["clustering"] = args.clustering, "--clustering"
+    if args.detection_only:
+        fields["tracking"], given_as["tracking"] = False, "--detection-only"
     for text in args.set or ():
         key, value = setting(text)
         fields[key], given_as[key] = value, f"--set {text}"

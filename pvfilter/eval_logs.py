@@ -140,9 +140,12 @@ def output_folder(text: str | None) -> Path | None:
 
 
 def compared_label(name: str, runs: dict, settings: dict[str, str]) -> str | None:
-    """The label of ``--compare NAME`` beside the ``runs`` so far: its name, or ``"NAME
-    (defaults)"`` where the chosen filter is that filter with other parameters; None
-    where it would run the same filter with the same parameters twice."""
+    """The label of ``--compare NAME`` beside the ``runs`` so far (``settings``: the chosen
+    filter's options, by its name): its name, or ``"NAME (defaults)"`` where the chosen
+    filter is that filter with other parameters; None where it would run the same filter
+    with the same parameters twice."""
+    if name in runs and name not in settings:  # (a compared filter named twice)
+        return None
     label = name if name not in runs else f"{name} (defaults)"
     if settings.get(name) == "defaults" or label in runs:
         return None
@@ -160,6 +163,7 @@ def _evaluate(args: argparse.Namespace) -> int:
     out = output_folder(args.out)
     files = log_files(args.paths)
     reports: list[LogReport] = []
+    width = max(10, *map(len, makers))  # (the filters' names line up)
     for path in files:
         for name, make in makers.items():
             report = evaluate_log(path, name, make, args.odometry)
@@ -175,7 +179,7 @@ def _evaluate(args: argparse.Namespace) -> int:
                 else "no scan lost a beam"
             )
             print(
-                f"{report.log:24s} {name:10s} removed {report.removed_share:8.4%} of "
+                f"{report.log:24s} {name:{width}s} removed {report.removed_share:8.4%} of "
                 f"{report.valid_beams} valid beams; {worst}; {report.scans_over_limit} scans "
                 f"over 5 %"
             )

@@ -24,7 +24,8 @@ def run_command(
     a Ctrl-C in ``"<prog>: <interrupted>"`` and 130, both on stderr. Output piped into a
     reader that stopped early (``| head``) ends the command quietly with 141, as a Unix
     tool ends. A warning the work raises (a stamp that went back, a geometry not given)
-    is one line too, ``"<prog>: warning: <what>"``, without Python's source path and code.
+    is shown as one line too, ``"<prog>: warning: <what>"``, without Python's source path
+    and code.
 
     Args:
         prog: the command's name, as its messages start.
@@ -32,10 +33,10 @@ def run_command(
         interrupted: what a Ctrl-C left behind, in words.
         mistakes: the exceptions that are the user's to fix (their message names what).
     """
+    formatted = warnings.formatwarning
+    warnings.formatwarning = _one_line_warnings(prog)
     try:
-        with warnings.catch_warnings():
-            warnings.showwarning = _one_line_warnings(prog)
-            return work()
+        return work()
     except KeyboardInterrupt:
         print(f"{prog}: {interrupted}", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -45,15 +46,20 @@ def run_command(
     except mistakes as error:
         print(f"{prog}: error: {_what(error)}", file=sys.stderr)
         return EXIT_USAGE
+    finally:
+        warnings.formatwarning = formatted
 
 
-def _one_line_warnings(prog: str) -> Callable[..., None]:
-    """A ``warnings.showwarning`` that prints ``"<prog>: warning: <message>"`` on stderr."""
+def _one_line_warnings(prog: str) -> Callable[..., str]:
+    """A ``warnings.formatwarning`` that writes ``"<prog>: warning: <message>"``. The
+    format, not the display (``showwarning``), is replaced: ``pytest.warns``,
+    ``catch_warnings(record=True)`` and ``logging.captureWarnings`` around the command
+    still receive every warning."""
 
-    def show(message, category, filename, lineno, file=None, line=None) -> None:
-        print(f"{prog}: warning: {message}", file=file or sys.stderr)
+    def one_line(message, category, filename, lineno, line=None) -> str:
+        return f"{prog}: warning: {message}\n"
 
-    return show
+    return one_line
 
 
 def _what(error: BaseException) -> str:

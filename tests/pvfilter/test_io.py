@@ -148,3 +148,15 @@ def test_a_results_file_gets_the_permissions_a_plain_file_would(tmp_path):
         os.umask(mask)
     assert stat.S_IMODE((tmp_path / "out.npz").stat().st_mode) == 0o640
     assert [p.name for p in tmp_path.iterdir()] == ["out.npz"]  # no temporary file left
+
+
+def test_an_overwritten_results_file_keeps_its_permissions(tmp_path):
+    scans = room_sequence(3).scans
+    results = [PitchVariationFilter().process(s) for s in scans]
+    out = tmp_path / "out.npz"
+    out.write_bytes(b"old")
+    out.chmod(0o600)  # the user's own choice: readable by them alone
+    save_results(out, arrays_from_scans(scans), results)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o600
+    with np.load(out) as written:
+        assert "removed" in written

@@ -138,3 +138,10 @@ def test_a_log_without_odometry_or_without_a_valid_beam_is_noted(tmp_path, capsy
     assert "plain.npz: the log has no odometry (run without it)" in printed
     assert "millimetres.npz: no beam lies within [range_min, range_max]" in printed
     assert "plain.npz: no beam" not in printed
+
+
+def test_a_filter_compared_twice_runs_once(log_file, tmp_path):
+    out = tmp_path / "report"
+    assert main(["eval-logs", str(log_file), "--compare", "paper", "paper", "--out", str(out)]) == 0
+    rows = json.loads((out / "report.json").read_text())
+    assert sorted(r["filter"] for r in rows) == ["improved", "paper"]

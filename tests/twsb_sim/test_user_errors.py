@@ -230,3 +230,11 @@ def test_a_filter_parameter_file_that_is_not_text_is_named_once(tmp_path, capsys
     assert main(["run", str(scenario), "--filter-params", str(params)]) == EXIT_USAGE
     error = _one_line_error(capsys)
     assert error.count(str(params)) == 1 and "not a text file" in error
+
+
+def test_a_missing_filter_parameter_file_is_named_once(tmp_path, capsys):
+    scenario, missing = tmp_path / "tiny.toml", tmp_path / "nope.toml"
+    scenario.write_text(TINY)
+    assert main(["run", str(scenario), "--filter-params", str(missing)]) == EXIT_USAGE
+    error = _one_line_error(capsys)
+    assert error.count(str(missing)) == 1 and "No such file or directory" in error
