@@ -29,6 +29,7 @@ from pvfilter.cli_options import (
 from pvfilter.exits import run_command
 from pvfilter.io import read_arrays, save_results, scans_from_arrays
 from pvfilter.labelled import geometry_of, scan_labels, truth_of
+from pvfilter.logs import NO_VALID_BEAM
 from pvfilter.paper import ThreadedPitchVariationFilter
 from pvfilter.registry import filter_entry, filter_names
 
@@ -120,6 +121,8 @@ def _filter_file(args: argparse.Namespace) -> int:
         + (f" with {', '.join(used)}" if used else "")
         + f", removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
+    if scans and not valid:
+        print(f"pvfilter: {source}: {NO_VALID_BEAM}")
     note = geometry_note("pvfilter", args, params, stated)
     if note:
         print(note)

@@ -71,19 +71,21 @@ def filter_options(args: argparse.Namespace) -> tuple[FilterEntry, Any, dict[str
         entry = filter_entry(name or "paper")
         params = entry.default_params()
     fields = {f.name: getattr(args, f.name) for f in SYMBOLS if getattr(args, f.name) is not None}
+    given_as = {key: f"--{key.replace('_', '-')}" for key in fields}  # (how each was given)
     if args.clustering:
-        fields["clustering"] = args.clustering
+        fields["clustering"], given_as["clustering"] = args.clustering, "--clustering"
     if args.detection_only:
-        fields["tracking"] = False
-    fields.update(dict(setting(text) for text in args.set or ()))
+        fields["tracking"], given_as["tracking"] = False, "--detection-only"
+    for text in args.set or ():
+        key, value = setting(text)
+        fields[key], given_as[key] = value, f"--set {text}"
     if args.threaded and entry.name != "paper":
         raise ValueError(f"--threaded: the two-thread form is the paper filter's, not {entry.name}")
     if fields and params is None:
         raise ValueError(f"filter {entry.name!r} takes no parameters")
     for key in fields:
         if key not in _takes(params):
-            flag = key.replace("_", "-")
-            raise ValueError(f"--{flag}: filter {entry.name!r} has no parameter {key}")
+            raise ValueError(f"{given_as[key]}: filter {entry.name!r} has no parameter {key}")
     if args.lidar_height is not None and "lidar_height_m" not in _takes(params):
         raise ValueError(f"--lidar-height: filter {entry.name!r} does not use the LiDAR's height")
     return entry, params, fields

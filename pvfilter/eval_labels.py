@@ -40,7 +40,14 @@ import re
 from collections.abc import Sequence
 from pathlib import Path
 
-from pvfilter.eval_logs import add_filter_arguments, chosen_entry, log_files, settings_of
+from pvfilter.eval_logs import (
+    add_filter_arguments,
+    chosen_entry,
+    compared_label,
+    log_files,
+    output_folder,
+    settings_of,
+)
 from pvfilter.exits import run_command
 from pvfilter.labelled import INPUT_KEYS, LabelledReport, evaluate_labelled, pooled
 from pvfilter.registry import filter_entry
@@ -221,17 +228,16 @@ def _evaluate(args: argparse.Namespace) -> int:
     runs = {entry.name: (entry, params, fields)}
     settings = {entry.name: settings_of(args)}
     for name in args.compare:  # compared filters run with their defaults
-        label = name if name not in runs else f"{name} (defaults)"
-        if settings.get(name) == "defaults" or label in runs:
-            continue  # the same filter with the same parameters
-        runs[label] = (filter_entry(name), None, {})
+        label = compared_label(name, runs, settings)
+        if label is not None:
+            runs[label] = (filter_entry(name), None, {})
     given = {key for name in args.inputs for key in INPUT_KEYS[name]}
     for label, (run_entry, _, _) in runs.items():
         missing = [key for key in run_entry.needs if key not in given]
         if missing:
             asked = [name for name, keys in INPUT_KEYS.items() if missing[0] in keys]
             raise ValueError(f"filter {label!r} needs {missing[0]}: add --inputs {' '.join(asked)}")
-    out = _output_folder(args.out)
+    out = output_folder(args.out)
     files = log_files(args.paths)
     names = _names(files)
     reports: dict[str, list[LabelledReport]] = {name: [] for name in runs}
@@ -277,18 +283,6 @@ def _evaluate(args: argparse.Namespace) -> int:
         if args.per_scan:
             _write_per_scan(out / PER_SCAN_FOLDER, reports)
     return 0
-
-
-def _output_folder(text: str | None) -> Path | None:
-    """The ``--out`` folder, made now: a path it cannot be is reported before the work."""
-    if text is None:
-        return None
-    out = Path(text)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise ValueError(f"--out {text}: cannot be a folder ({error.strerror or error})") from None
-    return out
 
 
 def _names(files: list[Path]) -> dict[Path, str]:

@@ -22,7 +22,7 @@ from typing import Any
 from pvfilter.cli_options import setting
 from pvfilter.contract import ScanFilter
 from pvfilter.exits import run_command
-from pvfilter.logs import LogReport, evaluate_log, markdown
+from pvfilter.logs import NO_VALID_BEAM, LogReport, evaluate_log, markdown
 from pvfilter.params_file import load_params
 from pvfilter.registry import FilterEntry, entry_for_params, filter_entry
 
@@ -127,22 +127,51 @@ def settings_of(args: argparse.Namespace) -> str:
     return " ".join(options) or "defaults"
 
 
+def output_folder(text: str | None) -> Path | None:
+    """The ``--out`` folder, made now: a path it cannot be is reported before the work."""
+    if text is None:
+        return None
+    out = Path(text)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"--out {text}: cannot be a folder ({error.strerror or error})") from None
+    return out
+
+
+def compared_label(name: str, runs: dict, settings: dict[str, str]) -> str | None:
+    """The label of ``--compare NAME`` beside the ``runs`` so far (``settings``: the chosen
+    filter's options, by its name): its name, or ``"NAME (defaults)"`` where the chosen
+    filter is that filter with other parameters; None where it would run the same filter
+    with the same parameters twice."""
+    if name in runs and name not in settings:  # (a compared filter named twice)
+        return None
+    label = name if name not in runs else f"{name} (defaults)"
+    if settings.get(name) == "defaults" or label in runs:
+        return None
+    return label
+
+
 def _evaluate(args: argparse.Namespace) -> int:
     name, make = chosen(args)
     makers = {name: make}
-    settings = {name: settings_of(args)}  # a compared filter runs with its defaults
-    for name in args.compare:
-        if name not in makers:
-            compared = filter_entry(name)
-            makers[name] = compared.make
+    settings = {name: settings_of(args)}
+    for name in args.compare:  # compared filters run with their defaults
+        label = compared_label(name, makers, settings)
+        if label is not None:
+            makers[label] = filter_entry(name).make
+    out = output_folder(args.out)
     files = log_files(args.paths)
     reports: list[LogReport] = []
+    width = max(10, *map(len, makers))  # (the filters' names line up)
     for path in files:
         for name, make in makers.items():
             report = evaluate_log(path, name, make, args.odometry)
             if report is None:
                 print(f"pvfilter eval-logs: {path}: no scans (skipped)")
                 break
+            if name == next(iter(makers)):  # (notes once per log)
+                _note_on(path, report, args.odometry)
             reports.append(report)
             worst = (
                 f"worst scan {report.worst_scan} {report.worst_scan_share:.2%}"
@@ -150,13 +179,11 @@ def _evaluate(args: argparse.Namespace) -> int:
                 else "no scan lost a beam"
             )
             print(
-                f"{report.log:24s} {name:10s} removed {report.removed_share:8.4%} of "
+                f"{report.log:24s} {name:{width}s} removed {report.removed_share:8.4%} of "
                 f"{report.valid_beams} valid beams; {worst}; {report.scans_over_limit} scans "
                 f"over 5 %"
             )
-    if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
+    if out is not None:
         rows = [
             dict(
                 dataclasses.asdict(r),
@@ -173,3 +200,12 @@ def _evaluate(args: argparse.Namespace) -> int:
         )
         print(f"pvfilter eval-logs: wrote {out / 'report.json'} and {out / 'report.md'}")
     return 0
+
+
+def _note_on(path: Path, report: LogReport, odometry: bool) -> None:
+    """A note where a log's report would mislead as it stands: ``--odometry`` given for a
+    log without odometry, or no valid beam at all (:data:`pvfilter.logs.NO_VALID_BEAM`)."""
+    if odometry and not report.odometry:
+        print(f"pvfilter eval-logs: {path}: the log has no odometry (run without it)")
+    if report.valid_beams == 0:
+        print(f"pvfilter eval-logs: {path}: {NO_VALID_BEAM}")

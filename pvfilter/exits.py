@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from collections.abc import Callable
 
 EXIT_USAGE = 2
@@ -22,7 +23,9 @@ def run_command(
     """``work()``'s exit status; a user mistake ends in ``"<prog>: error: <what>"`` and 2,
     a Ctrl-C in ``"<prog>: <interrupted>"`` and 130, both on stderr. Output piped into a
     reader that stopped early (``| head``) ends the command quietly with 141, as a Unix
-    tool ends.
+    tool ends. A warning the work raises (a stamp that went back, a geometry not given)
+    is shown as one line too, ``"<prog>: warning: <what>"``, without Python's source path
+    and code.
 
     Args:
         prog: the command's name, as its messages start.
@@ -30,6 +33,8 @@ def run_command(
         interrupted: what a Ctrl-C left behind, in words.
         mistakes: the exceptions that are the user's to fix (their message names what).
     """
+    formatted = warnings.formatwarning
+    warnings.formatwarning = _one_line_warnings(prog)
     try:
         return work()
     except KeyboardInterrupt:
@@ -41,6 +46,20 @@ def run_command(
     except mistakes as error:
         print(f"{prog}: error: {_what(error)}", file=sys.stderr)
         return EXIT_USAGE
+    finally:
+        warnings.formatwarning = formatted
+
+
+def _one_line_warnings(prog: str) -> Callable[..., str]:
+    """A ``warnings.formatwarning`` that writes ``"<prog>: warning: <message>"``. The
+    format, not the display (``showwarning``), is replaced: ``pytest.warns``,
+    ``catch_warnings(record=True)`` and ``logging.captureWarnings`` around the command
+    still receive every warning."""
+
+    def one_line(message, category, filename, lineno, line=None) -> str:
+        return f"{prog}: warning: {message}\n"
+
+    return one_line
 
 
 def _what(error: BaseException) -> str:

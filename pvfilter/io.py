@@ -43,7 +43,8 @@ output's per-beam arrays are written back in the file's.
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
+import stat
 import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -105,6 +106,8 @@ def scans_from_arrays(arrays: dict[str, np.ndarray], source: str = "arrays") -> 
     if missing:
         raise ValueError(f"{source}: {missing[0]}: missing (required: {', '.join(REQUIRED_KEYS)})")
     ranges = np.asarray(arrays["ranges"])
+    if ranges.dtype.kind not in "biuf":  # (text, objects: named, not failed on later)
+        raise ValueError(f"{source}: ranges: must be numbers, got {ranges.dtype}")
     if ranges.ndim != 2:
         raise ValueError(f"{source}: ranges: must be 2-D (scans, beams), got shape {ranges.shape}")
     count = len(ranges)
@@ -205,11 +208,18 @@ def save_results(
 
 
 def write_atomically(path: str | Path, write: Callable[[BinaryIO], object]) -> None:
-    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``."""
+    """Call ``write`` on a temporary file beside ``path``, then rename it to ``path``.
+
+    The file gets the permissions a plain ``open`` would give it: an existing file's own,
+    else ``0o666`` less the process's umask (``tempfile.mkstemp`` makes it readable by its
+    owner alone, and a filtered log that the robot's other users and nodes cannot read is
+    no use to them).
+    """
     path = Path(path)
-    prefix = f".{path.name}."
-    handle, temporary = tempfile.mkstemp(prefix=prefix, suffix=".partial", dir=path.parent)
+    handle, temporary = _new_beside(path)
     try:
+        if path.exists():  # (an overwritten file keeps its mode, as open() keeps it)
+            os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))
         with os.fdopen(handle, "wb") as file:
             write(file)
         os.replace(temporary, path)
@@ -218,14 +228,36 @@ def write_atomically(path: str | Path, write: Callable[[BinaryIO], object]) -> N
         raise
 
 
+def _new_beside(path: Path) -> tuple[int, str]:
+    """A new file beside ``path`` (``.<name>.<random>.partial``), opened for writing, made
+    with mode ``0o666`` for the system to take the umask from (``os.open``), and its name."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(100):  # (a name taken: another random one)
+        name = str(path.parent / f".{path.name}.{secrets.token_hex(4)}.partial")
+        try:
+            return os.open(name, flags, 0o666), name
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"{path.parent}: no free name for a temporary file")
+
+
 def _per_scan(arrays: dict[str, np.ndarray], key: str, count: int, source: str) -> np.ndarray:
-    values = np.asarray(arrays[key], dtype=np.float64)
+    values = _numbers(arrays, key, source)
     if values.shape not in ((), (count,)):
         raise ValueError(
             f"{source}: {key}: must be one value or one per scan ({count}), "
             f"got shape {values.shape}"
         )
     return np.broadcast_to(values, (count,))
+
+
+def _numbers(arrays: dict[str, np.ndarray], key: str, source: str) -> np.ndarray:
+    """``arrays[key]`` as float64; a field of text (even of digits, as ``ranges`` is
+    checked) or of objects is named, not a bare ``could not convert string to float``."""
+    values = np.asarray(arrays[key])
+    if values.dtype.kind not in "biuf":  # text, even of digits, and objects: named
+        raise ValueError(f"{source}: {key}: must be numbers, got {values.dtype}")
+    return values.astype(np.float64, copy=False)
 
 
 def _stack(rows: list[np.ndarray], beams: int, dtype: type) -> np.ndarray:

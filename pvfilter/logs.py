@@ -61,6 +61,12 @@ class LogReport:
         return self.removed_beams / self.valid_beams if self.valid_beams else 0.0
 
 
+NO_VALID_BEAM = "no beam lies within [range_min, range_max]: are the ranges in metres?"
+# (what the commands note for a file without a valid beam: a share of 0 % of nothing
+# would read as a clean result, and ranges in millimetres read as metres lie beyond
+# every range_max)
+
+
 def odometry_inputs(arrays: dict[str, np.ndarray], count: int) -> list[dict] | None:
     """Per scan, ``{"pose_sensor_in_odom": (x, y, yaw)}`` from a log's odometry (None: the
     log has none).

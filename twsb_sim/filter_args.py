@@ -65,7 +65,13 @@ def filter_from_args(args: argparse.Namespace, scenario: Scenario) -> FrameFilte
             params = load_params(args.filter_params)
             entry = entry_for_params(params)
         except (OSError, ValueError) as error:
-            raise ConfigError(args.filter_params, "", str(error)) from None
+            # (the error names the file once: the reader's messages name it already, and
+            # a system error's text is its reason alone)
+            if isinstance(error, OSError):
+                message = error.strerror or str(error)
+            else:
+                message = str(error).removeprefix(f"{args.filter_params}: ")
+            raise ConfigError(args.filter_params, "", message) from None
         if name is not None and name != entry.name:
             message = f"holds parameters of {entry.name!r}, not of --filter {name!r}"
             raise ConfigError(args.filter_params, "", message)

@@ -177,3 +177,18 @@ def test_a_filter_without_geometry_runs_on_a_file_that_states_it(tall_robot_file
     assert main([str(tall_robot_file), str(tmp_path / "out.npz")]) == 0  # the paper's filter
     printed = capsys.readouterr().out
     assert "robot geometry" not in printed and "robot's geometry" not in printed
+
+
+def test_a_file_without_a_valid_beam_is_noted_not_passed_as_clean(tmp_path, capsys):
+    arrays = arrays_from_scans(room_sequence(3).scans)
+    millimetres = tmp_path / "mm.npz"
+    np.savez(millimetres, **dict(arrays, ranges=1000.0 * arrays["ranges"]))
+    assert main([str(millimetres), str(tmp_path / "out.npz"), "--improved"]) == 0
+    printed = capsys.readouterr().out
+    assert "removed 0 of 0 valid beams" in printed
+    assert (
+        "mm.npz: no beam lies within [range_min, range_max]: are the ranges in metres?" in printed
+    )
+    np.savez(tmp_path / "m.npz", **arrays)
+    assert main([str(tmp_path / "m.npz"), str(tmp_path / "out.npz"), "--improved"]) == 0
+    assert "no beam lies within" not in capsys.readouterr().out

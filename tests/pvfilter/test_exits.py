@@ -2,6 +2,9 @@
 
 import subprocess
 import sys
+import warnings
+
+import pytest
 
 from pvfilter.exits import EXIT_INTERRUPTED, EXIT_PIPE_CLOSED, EXIT_USAGE, run_command
 
@@ -54,3 +57,29 @@ def test_output_into_a_reader_that_stops_early_ends_quietly():
     stderr = reader.stderr.read()
     assert reader.wait(timeout=60) == EXIT_PIPE_CLOSED
     assert stderr == b""
+
+
+def test_a_warning_is_one_line_naming_the_command():
+    # (in a fresh interpreter: pytest records the warnings of its own tests, not shows them)
+    program = (
+        "import warnings\n"
+        "from pvfilter.exits import run_command\n"
+        "def work():\n"
+        "    warnings.warn('scan stamp 2.0 s is earlier than the previous 3.0 s')\n"
+        "    return 0\n"
+        "before = warnings.formatwarning\n"
+        "assert run_command('pvfilter', work) == 0\n"
+        "assert warnings.formatwarning is before\n"  # restored: later ones as before
+    )
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr == "pvfilter: warning: scan stamp 2.0 s is earlier than the previous 3.0 s\n"
+
+
+def test_a_warning_still_reaches_a_recorder_around_the_command():
+    def work():
+        warnings.warn("stamp went back", stacklevel=1)
+        return 0
+
+    with pytest.warns(UserWarning, match="stamp went back"):
+        assert run_command("pvfilter", work) == 0

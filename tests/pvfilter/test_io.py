@@ -1,5 +1,8 @@
 """Scan files: the .npz layout, round trips, and errors that name the key."""
 
+import os
+import stat
+
 import numpy as np
 import pytest
 
@@ -73,6 +76,9 @@ def test_results_file_keeps_other_arrays_and_adds_masks(tmp_path):
         ({"intensities": np.ones((3, 4))}, r"^f: intensities: must have the shape"),
         ({"angle_increment": np.array([0.1, 0.0, 0.1])}, r"^f: scan 1: angle_increment:"),
         ({"angle_increment": np.array([0.1, -0.1, 0.1])}, r"^f: angle_increment: the scans run"),
+        ({"angle_min": np.array("abc")}, r"^f: angle_min: must be numbers, got <U3"),
+        ({"stamps": np.array(["0", "x", "1"])}, r"^f: stamps: must be numbers"),
+        ({"ranges": np.full((3, 5), "1.0")}, r"^f: ranges: must be numbers"),
     ],
 )
 def test_malformed_files_raise_naming_the_key(change, message):
@@ -130,3 +136,27 @@ def test_a_clockwise_file_reads_as_its_scans_counter_clockwise_and_writes_back_i
         )
         np.testing.assert_array_equal(out["labels"], written["labels"])
         np.testing.assert_array_equal(out["intensities"], written["intensities"])
+
+
+def test_a_results_file_gets_the_permissions_a_plain_file_would(tmp_path):
+    scans = room_sequence(3).scans
+    results = [PitchVariationFilter().process(s) for s in scans]
+    mask = os.umask(0o027)  # (a umask other than the default: the file must follow it)
+    try:
+        save_results(tmp_path / "out.npz", arrays_from_scans(scans), results)
+    finally:
+        os.umask(mask)
+    assert stat.S_IMODE((tmp_path / "out.npz").stat().st_mode) == 0o640
+    assert [p.name for p in tmp_path.iterdir()] == ["out.npz"]  # no temporary file left
+
+
+def test_an_overwritten_results_file_keeps_its_permissions(tmp_path):
+    scans = room_sequence(3).scans
+    results = [PitchVariationFilter().process(s) for s in scans]
+    out = tmp_path / "out.npz"
+    out.write_bytes(b"old")
+    out.chmod(0o600)  # the user's own choice: readable by them alone
+    save_results(out, arrays_from_scans(scans), results)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o600
+    with np.load(out) as written:
+        assert "removed" in written

@@ -105,3 +105,43 @@ def test_the_command_takes_parameters_and_names_a_bad_one(log_file, capsys):
     assert "level" in capsys.readouterr().out
     assert main(["eval-logs", str(log_file), "--set", "no_such=1"]) == 2
     assert "no_such" in capsys.readouterr().err
+
+
+def test_a_tuned_filter_is_compared_with_its_own_defaults(log_file, tmp_path, capsys):
+    out = tmp_path / "report"
+    argv = ["eval-logs", str(log_file), "--set", "p_th=0.3", "--compare", "improved", "--out"]
+    assert main([*argv, str(out)]) == 0
+    rows = json.loads((out / "report.json").read_text())
+    assert {r["filter"]: r["settings"] for r in rows} == {
+        "improved": "--set p_th=0.3",
+        "improved (defaults)": "defaults",
+    }
+    assert "improved (defaults)" in capsys.readouterr().out
+
+
+def test_an_output_that_cannot_be_a_folder_is_refused_before_the_work(log_file, tmp_path, capsys):
+    taken = tmp_path / "results.txt"
+    taken.write_text("mine")
+    assert main(["eval-logs", str(log_file), "--out", str(taken)]) == 2
+    captured = capsys.readouterr()
+    assert "--out" in captured.err and "results.txt" in captured.err
+    assert "level" not in captured.out  # no log was read
+    assert taken.read_text() == "mine"
+
+
+def test_a_log_without_odometry_or_without_a_valid_beam_is_noted(tmp_path, capsys):
+    arrays = arrays_from_scans(room_sequence(5, event_every=1000).scans)  # no odometry
+    np.savez(tmp_path / "plain.npz", **arrays)
+    np.savez(tmp_path / "millimetres.npz", **dict(arrays, ranges=1000.0 * arrays["ranges"]))
+    assert main(["eval-logs", str(tmp_path), "--odometry", "--compare"]) == 0
+    printed = capsys.readouterr().out
+    assert "plain.npz: the log has no odometry (run without it)" in printed
+    assert "millimetres.npz: no beam lies within [range_min, range_max]" in printed
+    assert "plain.npz: no beam" not in printed
+
+
+def test_a_filter_compared_twice_runs_once(log_file, tmp_path):
+    out = tmp_path / "report"
+    assert main(["eval-logs", str(log_file), "--compare", "paper", "paper", "--out", str(out)]) == 0
+    rows = json.loads((out / "report.json").read_text())
+    assert sorted(r["filter"] for r in rows) == ["improved", "paper"]

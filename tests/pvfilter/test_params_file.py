@@ -93,3 +93,9 @@ def test_pvfilter_improved_takes_p_th_and_rejects_the_paper_s_symbols(scan_file,
         assert not data["removed"].any()  # no score exceeds 1
     assert main([str(scan_file), str(out), "--improved", "--d-th", "0.5"]) == 2
     assert "--d-th: filter 'improved' has no parameter d_th" in capsys.readouterr().err
+    assert main([str(scan_file), str(out), "--improved", "--set", "pth=0.3"]) == 2
+    assert "--set pth=0.3: filter 'improved' has no parameter pth" in capsys.readouterr().err
+    assert main([str(scan_file), str(out), "--improved", "--detection-only"]) == 2
+    assert "--detection-only: filter 'improved' has no parameter tracking" in (
+        capsys.readouterr().err
+    )

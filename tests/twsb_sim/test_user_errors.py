@@ -221,3 +221,20 @@ def test_a_data_set_with_garbled_metadata_is_one_line(tmp_path, capsys):
     assert "meta/info.json" in _one_line_error(capsys)
     assert main(["export-bag", str(root), "--out", str(tmp_path / "bag")]) == EXIT_USAGE
     assert "not JSON" in _one_line_error(capsys)
+
+
+def test_a_filter_parameter_file_that_is_not_text_is_named_once(tmp_path, capsys):
+    scenario, params = tmp_path / "tiny.toml", tmp_path / "frames.npz"
+    scenario.write_text(TINY)
+    np.savez(params, ranges=np.ones((1, 4)))  # a scan file given where parameters belong
+    assert main(["run", str(scenario), "--filter-params", str(params)]) == EXIT_USAGE
+    error = _one_line_error(capsys)
+    assert error.count(str(params)) == 1 and "not a text file" in error
+
+
+def test_a_missing_filter_parameter_file_is_named_once(tmp_path, capsys):
+    scenario, missing = tmp_path / "tiny.toml", tmp_path / "nope.toml"
+    scenario.write_text(TINY)
+    assert main(["run", str(scenario), "--filter-params", str(missing)]) == EXIT_USAGE
+    error = _one_line_error(capsys)
+    assert error.count(str(missing)) == 1 and "No such file or directory" in error

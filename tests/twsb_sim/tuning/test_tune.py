@@ -5,7 +5,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
-import tomllib
 
 import numpy as np
 import pytest
@@ -13,6 +12,7 @@ import pytest
 from pvfilter import ImprovedParams, ImprovedPitchVariationFilter, load_params
 from pvfilter.synthetic import room_sequence
 from twsb_sim.cli import main
+from twsb_sim.tuning.cli import _report, _undefined_warnings
 from twsb_sim.tuning.data import TuningRun
 from twsb_sim.tuning.objective import THRESHOLDS, score, sweep
 from twsb_sim.tuning.search import SPACE, params_at, search, unit_of
@@ -86,14 +86,28 @@ def quick_tune(tmp_path_factory):
     return out, printed.read_text()
 
 
-def test_held_out_episodes_without_pitch_variation_are_not_scored(quick_tune):
-    out, printed = quick_tune
-    params_file = tomllib.loads(out.read_text())["tuning"]
-    heldout = params_file["results"]["tuned, held-out"]
-    if heldout["positives"] > 0:
-        pytest.skip("the quick held-out episode holds pitch-variation beams now")
-    assert math.isnan(heldout["auc"]) and math.isnan(heldout["recall"])
-    assert "held-out episodes hold no pitch-variation beam" in params_file["warnings"][0]
+def test_held_out_episodes_without_pitch_variation_are_not_scored():
+    run = synthetic_run()
+    level = dataclasses.replace(run, positive=np.zeros_like(run.positive))  # nothing to find
+    rows = {
+        "tuned, training": score(ImprovedParams(), [run]),
+        "tuned, held-out": score(ImprovedParams(), [level]),
+    }
+    heldout = rows["tuned, held-out"]
+    assert heldout.positives == 0 and not heldout.defined
+    assert math.isnan(heldout.auc) and math.isnan(heldout.recall)
+    assert rows["tuned, training"].defined and rows["tuned, training"].auc > 0.5
+    (warning,) = _undefined_warnings(rows)
+    assert "held-out episodes hold no pitch-variation beam" in warning
+    tuning = {
+        "objective": "auc",
+        "target_precision": 0.9,
+        "points_scored": 1,
+        "wall_s": 0.0,
+        "validation_scores": {"defaults": 0.5, "best of the search": 0.5},
+        "defaults_kept": True,
+    }
+    printed = _report(rows, ImprovedParams(), ImprovedParams(), None, tuning)
     row = next(line for line in printed.splitlines() if line.startswith("tuned, held-out"))
     assert row.split()[2:4] == ["n/a", "n/a"] and "1.000" not in row
 
