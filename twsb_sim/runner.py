@@ -237,6 +237,10 @@ def _simulate(
             raise SimulationDiverged(scenario.source, summary.end_reason)
         fall = sim.fall_reason() if k in timeline_steps else None
         if fall is not None:
+            # (the peak runs over the states the steps started from; the state the fall
+            # was read in comes after them, and the summary's peak must not be below it)
+            reading_deg = abs(math.degrees(sim.truth().pitch_rad))
+            summary.max_abs_pitch_deg = max(summary.max_abs_pitch_deg, reading_deg)
             reason = f"fell: {fall} at t={sim.time_s:.2f} s"
             summary.fell, summary.end_reason = True, reason
             events(reason)
