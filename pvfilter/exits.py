@@ -51,8 +51,8 @@ def run_command(
 
 
 def _one_line_warnings(prog: str) -> Callable[..., str]:
-    """A ``warnings.formatwarning`` that writes ``"<prog>: warning: <message>"``. The
-    format, not the display (``showwarning``), is replaced: ``pytest.warns``,
+    """A ``warnings.formatwarning`` giving ``"<prog>: warning: <message>"``. The format,
+    not the display (``showwarning``), is replaced: ``pytest.warns``,
     ``catch_warnings(record=True)`` and ``logging.captureWarnings`` around the command
     still receive every warning."""
 

@@ -252,10 +252,10 @@ def _per_scan(arrays: dict[str, np.ndarray], key: str, count: int, source: str) 
 
 
 def _numbers(arrays: dict[str, np.ndarray], key: str, source: str) -> np.ndarray:
-    """``arrays[key]`` as float64; a field of text (even of digits, as ``ranges`` is
-    checked) or of objects is named, not a bare ``could not convert string to float``."""
+    """``arrays[key]`` as float64. Text (digits too, as for ``ranges``) and objects are
+    refused with the key named, not with a bare ``could not convert string to float``."""
     values = np.asarray(arrays[key])
-    if values.dtype.kind not in "biuf":  # text, even of digits, and objects: named
+    if values.dtype.kind not in "biuf":
         raise ValueError(f"{source}: {key}: must be numbers, got {values.dtype}")
     return values.astype(np.float64, copy=False)
 
