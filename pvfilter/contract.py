@@ -58,7 +58,7 @@ def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[flo
 
     Raises:
         ValueError: a roll without a pitch, a value that is not a finite number, or one
-            beyond +/- pi/2 (degrees given as radians).
+            beyond +/- pi (degrees given as radians, an angle not wrapped).
     """
     if pitch_rad is None:
         if roll_rad is not None:
@@ -69,9 +69,10 @@ def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[flo
         real = isinstance(value, numbers.Real) and not isinstance(value, bool)
         if not real or not math.isfinite(value):
             raise ValueError(f"{name}: must be a finite number of radians, got {value!r}")
-        if abs(value) > math.pi / 2:  # (beyond that the robot lies on the floor)
+        if abs(value) > math.pi:  # (an angle is within half a turn either way)
             raise ValueError(
-                f"{name}: must be within +/- pi/2 rad (90 deg), got {value!r}: degrees?"
+                f"{name}: must be within +/- pi rad, got {value!r}: degrees, or an angle "
+                "not wrapped?"
             )
     return float(values[0]), float(values[1])
 

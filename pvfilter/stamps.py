@@ -36,6 +36,8 @@ class ScansApartWarning(UserWarning):
 
 
 GAPS_BEFORE_WARNING = 5  # scans in a row too far apart: one is a pause, five a pattern
+UNLIKELY_GAP_S = 60.0  # s: scans this far apart, one after another, are stamps in another
+# unit (milliseconds read as seconds put 10 Hz scans 100 s apart), not a slow log
 
 
 class GapWatch:
@@ -61,10 +63,15 @@ class GapWatch:
         if self.in_a_row < GAPS_BEFORE_WARNING or self.warned:
             return
         self.warned = True
+        why = (
+            "Are the stamps in seconds?"
+            if gap_s > UNLIKELY_GAP_S
+            else "A log recorded this slowly is left as it is (see max_gap_s)."
+        )
         warnings.warn(
             f"the last {self.in_a_row} scans each came more than max_gap_s ({max_gap_s:g} s) "
             f"after the one before (the last {gap_s:.4g} s): the filter compares no two of "
-            "them and removes nothing. Are the stamps in seconds?",
+            f"them and removes nothing. {why}",
             ScansApartWarning,
             stacklevel=stacklevel + 1,
         )

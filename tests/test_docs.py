@@ -426,10 +426,6 @@ def test_parameter_tables_are_the_defaults(page, header, params):
     assert all(_same(documented[k], v) for k, v in actual.items()), documented
 
 
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
-
-
 def test_the_sensor_effects_table_is_the_command_s_output():
     """docs/sensors.md's table of what each imperfection does to the paper's filter holds
     the figures ``docs/sensor_effects.py`` wrote to ``docs/results/sensor_effects.txt``."""
@@ -444,3 +440,7 @@ def test_the_sensor_effects_table_is_the_command_s_output():
     for row in rows:
         figures = [row[name] for name in header[1:]]
         assert written[row["sensors"].replace("°", " deg")] == figures, row["sensors"]
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -23,6 +23,7 @@ from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.evidence import RecentScans
 from pvfilter.improved.filter import STATIC_BASELINE_S, blind_margin_m
 from pvfilter.improved.imu import ImuSignWarning
+from pvfilter.paper.threaded import ThreadedPitchVariationFilter
 from pvfilter.synthetic import (
     BLOCKED_SECTOR,
     cross_line,
@@ -237,7 +238,7 @@ def test_a_time_gap_starts_afresh_and_removes_nothing():
     # a low-rate log: scans 0.7 s apart, the sensor driving and turning between them
     # (the filter says, once, that it compares none of them)
     pvf.reset()
-    with pytest.warns(ScansApartWarning, match="compares no two of them"):
+    with pytest.warns(ScansApartWarning, match="recorded this slowly"):
         for k in range(10):
             pose = (-1.0 + 0.3 * k, 0.2 * math.sin(k), 0.4 * k)
             assert not pvf.process(
@@ -495,10 +496,11 @@ def test_roll_without_pitch_and_bad_attitudes_are_refused():
         pvf.process(scan, roll_rad=0.1)
     with pytest.raises(ValueError, match="pitch_rad"):
         pvf.process(scan, pitch_rad=float("nan"))
-    with pytest.raises(ValueError, match=r"pitch_rad: must be within \+/- pi/2 .*degrees\?"):
+    with pytest.raises(ValueError, match=r"pitch_rad: must be within \+/- pi rad.*degrees"):
         pvf.process(scan, pitch_rad=10.0)  # degrees given as radians
     with pytest.raises(ValueError, match="roll_rad: must be within"):
-        pvf.process(scan, pitch_rad=0.1, roll_rad=-2.0)
+        pvf.process(scan, pitch_rad=0.1, roll_rad=-4.0)
+    pvf.process(scan, pitch_rad=1.8, roll_rad=-3.0)  # a robot on its back: angles still
 
 
 def test_what_is_not_a_scan_or_not_its_parameters_is_named():
@@ -510,6 +512,11 @@ def test_what_is_not_a_scan_or_not_its_parameters_is_named():
         ImprovedPitchVariationFilter(FilterParams())
     with pytest.raises(TypeError, match="PitchVariationFilter: expects FilterParams"):
         PitchVariationFilter(ImprovedParams())
+    with pytest.raises(TypeError, match="ThreadedPitchVariationFilter: expects FilterParams"):
+        ThreadedPitchVariationFilter(ImprovedParams())
+    with ThreadedPitchVariationFilter() as threaded:
+        with pytest.raises(TypeError, match=r"scan: must be a pvfilter\.Scan"):
+            threaded.process(np.full(720, 4.0))
 
 
 def test_odometry_whose_yaw_wraps_through_pi_filters_as_unwrapped_odometry():
