@@ -71,7 +71,11 @@ def main() -> None:
         "--seconds", type=float, default=20.0, help="simulated seconds per measurement"
     )
     parser.add_argument(
-        "--repeats", type=int, default=3, help="take the best of this many measurements"
+        "--repeats",
+        type=int,
+        default=3,
+        help="take the best of this many measurements (at least 2: the first pays for "
+        "compiling and warming up)",
     )
     args = parser.parse_args()
     bare, closed, instant, filtered = [], [], [], []

@@ -29,6 +29,12 @@ LOAD_S = 2.0  # s for the viewer to load the recording
 DRAW_S = 4.0  # s for the software rasterizer to draw a few frames
 
 
+NO_VULKAN_HINT = (
+    "rerun_screenshot: the headless viewer needs a Vulkan driver: on Debian or Ubuntu "
+    "apt-get install mesa-vulkan-drivers (docs/rerun.md, the screenshot recipe)"
+)
+
+
 class ViewerFailed(RuntimeError):
     """The viewer exited, or did not answer in time."""
 
@@ -106,10 +112,19 @@ def main() -> int:
         client.set_time("sim_time", duration=args.time, play_state="paused")
         time.sleep(DRAW_S)
         client.save_screenshot(str(args.png))
-    except ViewerFailed as error:
+    except (ViewerFailed, ConnectionError, RuntimeError) as error:
+        # (a viewer that dies while answering surfaces as the client's transport error)
+        time.sleep(0.5)
+        if not isinstance(error, ViewerFailed) and viewer.poll() is not None:
+            error = ViewerFailed(f"the viewer exited with status {viewer.returncode}")
         log.seek(0)
-        last_words = log.read().decode(errors="replace").strip().splitlines()[-5:]
-        print(f"rerun_screenshot: {error}", *last_words, sep="\n  ", file=sys.stderr)
+        lines = log.read().decode(errors="replace").strip().splitlines()
+        # the viewer's own reason (a Rust panic) comes before its backtrace: the last
+        # lines alone are frames of the backtrace
+        reasons = [line for line in lines if "panicked" in line or "rror" in line][:3]
+        print(f"rerun_screenshot: {error}", *(reasons or lines[-5:]), sep="\n  ", file=sys.stderr)
+        if any("render context" in line or "Vulkan" in line for line in lines):
+            print(NO_VULKAN_HINT, file=sys.stderr)
         return 1
     finally:
         viewer.terminate()

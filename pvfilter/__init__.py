@@ -41,7 +41,7 @@ from pvfilter.registry import (
 )
 from pvfilter.result import FilterResult
 from pvfilter.scan import Scan
-from pvfilter.stamps import StampWentBackWarning
+from pvfilter.stamps import ScansApartWarning, StampWentBackWarning
 
 __all__ = [
     "ROBOT_INPUTS",
@@ -60,6 +60,7 @@ __all__ = [
     "PitchVariationFilter",
     "Scan",
     "ScanFilter",
+    "ScansApartWarning",
     "StampWentBackWarning",
     "ThreadedPitchVariationFilter",
     "Tracker",

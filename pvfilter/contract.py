@@ -57,7 +57,8 @@ def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[flo
     """``(pitch, roll)`` as floats, or None when no pitch is given (roll defaults to 0).
 
     Raises:
-        ValueError: a roll without a pitch, or a value that is not a finite number.
+        ValueError: a roll without a pitch, a value that is not a finite number, or one
+            beyond +/- pi (degrees given as radians, an angle not wrapped).
     """
     if pitch_rad is None:
         if roll_rad is not None:
@@ -68,6 +69,11 @@ def check_attitude(pitch_rad: float | None, roll_rad: float | None) -> tuple[flo
         real = isinstance(value, numbers.Real) and not isinstance(value, bool)
         if not real or not math.isfinite(value):
             raise ValueError(f"{name}: must be a finite number of radians, got {value!r}")
+        if abs(value) > math.pi:  # (an angle is within half a turn either way)
+            raise ValueError(
+                f"{name}: must be within +/- pi rad, got {value!r}: degrees, or an angle "
+                "not wrapped?"
+            )
     return float(values[0]), float(values[1])
 
 
@@ -89,3 +95,28 @@ def check_pose(pose_sensor_in_odom: ArrayLike | None) -> np.ndarray | None:
             f"got {pose_sensor_in_odom!r}"
         )
     return pose
+
+
+def check_scan(scan: object) -> None:
+    """Refuse what is not a :class:`~pvfilter.scan.Scan` with a message that says so (an
+    array of ranges given as the scan would fail deep inside, naming an attribute).
+
+    Raises:
+        TypeError: ``scan`` is not a Scan.
+    """
+    if not isinstance(scan, Scan):
+        raise TypeError(
+            f"scan: must be a pvfilter.Scan, got {type(scan).__name__} (build one with "
+            "Scan(ranges=..., angle_min=..., angle_increment=..., range_min=..., "
+            "range_max=..., stamp=...))"
+        )
+
+
+def check_params(params: object, expected: type, filter_name: str) -> None:
+    """Refuse parameters of another filter with a message that names both.
+
+    Raises:
+        TypeError: ``params`` is not an ``expected``.
+    """
+    if not isinstance(params, expected):
+        raise TypeError(f"{filter_name}: expects {expected.__name__}, got {type(params).__name__}")

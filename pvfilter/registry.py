@@ -77,12 +77,19 @@ class FilterEntry:
         Args:
             params: its parameters (defaults when None).
             robot_geometry: values of :data:`ROBOT_GEOMETRY_FIELDS` that the parameters
-                take where they have such a field (others are ignored).
+                take where they have such a field (a filter without one ignores it; a
+                key that is none of them is an error: a misspelled height would pass
+                silently, and a wrong height costs the improved filter dearly).
             **fields: parameter values that replace those of ``params``.
 
         Raises:
-            ValueError: parameters of another filter, or an unknown or invalid field.
+            ValueError: parameters of another filter, an unknown or invalid field, or a
+                ``robot_geometry`` key that is no geometry field.
         """
+        strange = sorted(set(robot_geometry or {}) - set(ROBOT_GEOMETRY_FIELDS))
+        if strange:
+            known = ", ".join(ROBOT_GEOMETRY_FIELDS)
+            raise ValueError(f"robot_geometry: unknown key {strange[0]!r} (known: {known})")
         if self.params_type is None:
             if params is not None or fields:
                 raise ValueError(f"{self.name}: takes no parameters")

@@ -426,5 +426,21 @@ def test_parameter_tables_are_the_defaults(page, header, params):
     assert all(_same(documented[k], v) for k, v in actual.items()), documented
 
 
+def test_the_sensor_effects_table_is_the_command_s_output():
+    """docs/sensors.md's table of what each imperfection does to the paper's filter holds
+    the figures ``docs/sensor_effects.py`` wrote to ``docs/results/sensor_effects.txt``."""
+    written = {}
+    for line in (ROOT / "docs" / "results" / "sensor_effects.txt").read_text().splitlines():
+        match = re.match(r"^(.*?)\s+(\d+)\s+(\d+)\s+(\d+)$", line)
+        if match:
+            written[match[1].strip()] = list(match.groups()[1:])
+    header = ("sensors", "beams removed", "of them pitch-variation", "pitch-variation beams")
+    rows = table_rows(ROOT / "docs" / "sensors.md", header)
+    assert len(rows) == len(written) == 12
+    for row in rows:
+        figures = [row[name] for name in header[1:]]
+        assert written[row["sensors"].replace("°", " deg")] == figures, row["sensors"]
+
+
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

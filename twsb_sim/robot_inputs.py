@@ -57,7 +57,11 @@ def robot_inputs(frame: Frame, names: Iterable[str], truth: bool = False) -> dic
     for name in names:
         if name in ("pitch_rad", "roll_rad"):
             attitude = frame.attitude_estimate if sensors else imu_pitch_roll(frame.truth.imu_quat)
-            inputs["pitch_rad"], inputs["roll_rad"] = (float(a) for a in attitude)
+            # as an angle, within +/- pi (the estimator's integral is not wrapped: a robot
+            # that fell and rolled on reads several turns)
+            inputs["pitch_rad"], inputs["roll_rad"] = (
+                math.remainder(float(a), math.tau) for a in attitude
+            )
         elif name == "pose_sensor_in_odom":
             inputs[name] = frame.lidar_pose_in_odom if sensors else sensor_pose_2d(frame.truth)
         else:

@@ -250,7 +250,7 @@ class Simulation:
         limit_deg = math.degrees(self.fall_pitch_rad)
         for name, angle in (("pitch", state.pitch_rad), ("roll", state.roll_rad)):
             if abs(angle) > self.fall_pitch_rad:
-                return f"|{name}| {abs(math.degrees(angle)):.0f} deg > {limit_deg:g} deg"
+                return f"|{name}| {abs(math.degrees(angle)):.1f} deg > {limit_deg:g} deg"
         return None
 
     def has_fallen(self) -> bool:

@@ -204,9 +204,12 @@ def _typestore(path: Path) -> Any:
 
 
 def _storage_plugin(source: Path) -> Any:
+    """The storage of the input bag, for the output to keep: MCAP for a folder of
+    ``.mcap`` files or a bare ``.mcap`` file (rosbags reads one), else sqlite3."""
     from rosbags.rosbag2 import StoragePlugin
 
-    return StoragePlugin.MCAP if any(source.glob("*.mcap")) else StoragePlugin.SQLITE3
+    mcap = source.suffix == ".mcap" if source.is_file() else any(source.glob("*.mcap"))
+    return StoragePlugin.MCAP if mcap else StoragePlugin.SQLITE3
 
 
 class CopiedBag:

@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pvfilter.contract import check_attitude, check_pose
+from pvfilter.contract import check_attitude, check_params, check_pose, check_scan
 from pvfilter.improved.anchor import (
     REFINE_ASSOCIATION_M,
     explains_both_ends,
@@ -57,7 +57,7 @@ from pvfilter.improved.scoring import line_pitch, strongest_confident
 from pvfilter.improved.segmentation import Segments, segment_scan
 from pvfilter.improved.sweep import deskew, unstretch
 from pvfilter.scan import Scan
-from pvfilter.stamps import stamp_went_back
+from pvfilter.stamps import GapWatch, stamp_went_back
 
 STATIC_BASELINE_S = 0.3  # s: the world-static test compares with the scan this long ago
 SAME_INSTANT_S = 1e-9  # s: stamps closer than this are one instant (no scanner stamps
@@ -164,6 +164,8 @@ class ImprovedPitchVariationFilter:
     """
 
     def __init__(self, params: ImprovedParams | None = None) -> None:
+        if params is not None:
+            check_params(params, ImprovedParams, "ImprovedPitchVariationFilter")
         self.params = params if params is not None else ImprovedParams()
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
@@ -182,6 +184,7 @@ class ImprovedPitchVariationFilter:
         self._body = BodyBeams()
         self._doubt = ViewDoubt()
         self._tilted_s = 0.0  # how long the scans have been tilted without a break
+        self._gaps = GapWatch()  # scans too far apart, in a row
         self._new_sequence = True
 
     @property
@@ -203,6 +206,7 @@ class ImprovedPitchVariationFilter:
         a new sequence, as for a new filter."""
         self._new_sequence = True
         self._previous_stamp = None
+        self._gaps.reset()
         self._attitude.reset()
         self._roll.reset()
         self._body.reset()
@@ -230,6 +234,7 @@ class ImprovedPitchVariationFilter:
         Returns:
             The filtered scan, the removed-beam mask, per-beam scores, the line detection.
         """
+        check_scan(scan)
         checked = check_attitude(pitch_rad, roll_rad)
         pose = check_pose(pose_sensor_in_odom)
         fresh, dt = self._start(scan)
@@ -836,6 +841,8 @@ class ImprovedPitchVariationFilter:
             self._noise.reset()
             self._scanner_params()
         dt = 0.0 if previous is None else scan.stamp - previous
+        if previous is not None and dt >= 0.0:
+            self._gaps.scan(dt, self.params.max_gap_s, stacklevel=3)
         if fresh or dt > self.params.max_gap_s:  # scans this far apart cannot be compared
             return True, 0.0
         return False, dt if dt >= SAME_INSTANT_S else 0.0

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from pvfilter.clusters import ClusterView
+from pvfilter.contract import check_params, check_scan
 from pvfilter.paper.clustering import cluster_scan
 from pvfilter.paper.detection import Detection, detect_clusters
 from pvfilter.paper.params import FilterParams
@@ -122,6 +123,8 @@ class PitchVariationFilter:
     """
 
     def __init__(self, params: FilterParams | None = None) -> None:
+        if params is not None:
+            check_params(params, FilterParams, "PitchVariationFilter")
         self.params = params if params is not None else FilterParams()
         self._tracker = Tracker(self.params)
         self._previous_tree: cKDTree | None = None  # T_kd^{t-1}
@@ -152,6 +155,7 @@ class PitchVariationFilter:
         Returns:
             The filtered scan, the removed-beam mask, per-beam scores, per-cluster records.
         """
+        check_scan(scan)
         # the paper runs these two halves in two threads (see pvfilter.threaded)
         return self.track_and_remove(self.cluster_and_detect(scan))
 

@@ -16,6 +16,7 @@ import queue
 import threading
 from collections.abc import Iterable, Iterator
 
+from pvfilter.contract import check_params, check_scan
 from pvfilter.paper.filter import PaperResult, PitchVariationFilter
 from pvfilter.paper.params import FilterParams
 from pvfilter.scan import Scan
@@ -39,6 +40,8 @@ class ThreadedPitchVariationFilter:
     """
 
     def __init__(self, params: FilterParams | None = None, max_pending: int = 8) -> None:
+        if params is not None:  # (named as this filter, before a thread starts)
+            check_params(params, FilterParams, "ThreadedPitchVariationFilter")
         self._filter = PitchVariationFilter(params)
         self.max_pending = max_pending
         self._scans: queue.Queue = queue.Queue(maxsize=max_pending)
@@ -58,7 +61,12 @@ class ThreadedPitchVariationFilter:
         return self._filter.params
 
     def submit(self, scan: Scan) -> None:
-        """Queue a scan (in time order); blocks while ``max_pending`` scans are in flight."""
+        """Queue a scan (in time order); blocks while ``max_pending`` scans are in flight.
+
+        Raises:
+            TypeError: ``scan`` is not a Scan (refused here, not in the worker thread).
+        """
+        check_scan(scan)
         self._scans.put(scan)
         self._pending += 1
 

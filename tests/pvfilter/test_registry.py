@@ -108,3 +108,14 @@ def test_a_user_filter_is_known_everywhere(far_filter, tmp_path, capsys):
         expected = [s.valid_mask() & (s.ranges > 2.0) for s in scans]
         np.testing.assert_array_equal(data["removed"], expected)
     assert "far filter, 5 scans" in capsys.readouterr().out
+
+
+def test_a_misspelled_robot_geometry_key_is_refused_not_dropped():
+    with pytest.raises(ValueError, match="robot_geometry: unknown key 'lidar_height'"):
+        make_filter("improved", robot_geometry={"lidar_height": 0.3})
+    with pytest.raises(ValueError, match="robot_geometry: unknown key"):
+        make_filter("paper", robot_geometry={"lidar_height": 0.3})  # whatever the filter
+    # a geometry field the filter does not take is ignored, as before
+    assert make_filter("paper", robot_geometry={"lidar_height_m": 0.3}) is not None
+    improved = make_filter("improved", robot_geometry={"lidar_height_m": 0.3})
+    assert improved.params.lidar_height_m == 0.3

@@ -45,3 +45,13 @@ def test_the_truth_is_given_when_asked(frame):
 def test_only_the_contract_s_inputs_exist(frame):
     with pytest.raises(ValueError, match="robot input: unknown 'speed'"):
         robot_inputs(frame, ("speed",))
+
+
+def test_an_estimate_of_several_turns_reaches_the_filter_as_an_angle(frame, monkeypatch):
+    # after a fall the estimator's integral can read several turns; filters take angles
+    wound = (0.1 + 2 * np.pi, 9.553)  # pitch, roll as the estimator integrated them
+    monkeypatch.setattr(type(frame), "attitude_estimate", property(lambda self: wound))
+    inputs = robot_inputs(frame, ("pitch_rad",))
+    assert inputs["pitch_rad"] == pytest.approx(0.1)
+    assert inputs["roll_rad"] == pytest.approx(9.553 - 4 * np.pi)
+    assert abs(inputs["roll_rad"]) <= np.pi

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -238,3 +239,12 @@ def test_a_missing_filter_parameter_file_is_named_once(tmp_path, capsys):
     assert main(["run", str(scenario), "--filter-params", str(missing)]) == EXIT_USAGE
     error = _one_line_error(capsys)
     assert error.count(str(missing)) == 1 and "No such file or directory" in error
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs a folder no file can be made in")
+def test_a_recording_that_cannot_be_made_is_one_line(tmp_path, capsys):
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text(TINY)
+    assert main(["run", str(scenario), "--rrd", "/proc/run.rrd", "--quiet"]) == EXIT_USAGE
+    error = _one_line_error(capsys)
+    assert error.startswith("twsb: error: --rrd: cannot write the recording") and "/proc" in error

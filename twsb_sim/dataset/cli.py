@@ -128,6 +128,8 @@ def _export_bag(args: argparse.Namespace) -> int:
     output_folder(args.out)
     if args.ros1 is not None:
         output_file(args.ros1, "--ros1")
+        if args.ros1.exists():
+            raise ConfigError("--ros1", "", f"{args.ros1} exists; the export writes a new .bag")
     counts = export_bag(
         dataset, args.episode, args.out, ros1_path=args.ros1, time_offset_s=args.time_offset
     )

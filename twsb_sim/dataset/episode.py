@@ -227,7 +227,7 @@ def run_episode(seed: int, episode: int, ranges: Randomization) -> EpisodeResult
         roll_deg = abs(math.degrees(recorder.scalars["roll_rad"][first]))
         fell = True
         end_reason = (
-            f"fell: |roll| {roll_deg:.0f} deg > {scenario.simulation.fall_pitch_deg:g} deg"
+            f"fell: |roll| {roll_deg:.1f} deg > {scenario.simulation.fall_pitch_deg:g} deg"
             f" at t={recorder.stamps[first]:.2f} s"
         )
         recorder.truncate(first)

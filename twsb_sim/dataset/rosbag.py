@@ -331,7 +331,7 @@ def export_bag(
         dataset: the data set.
         episode: which episode.
         out: the rosbag2 folder to create (must not exist).
-        ros1_path: also write a ROS 1 ``.bag`` file here.
+        ros1_path: also write a ROS 1 ``.bag`` file here (must not exist).
         time_offset_s: added to every stamp (s); ROS reads a zero stamp as "latest".
 
     Returns:
@@ -341,6 +341,8 @@ def export_bag(
         raise ValueError(f"time_offset_s: expected a finite value >= 0, got {time_offset_s}")
     if Path(out).exists():
         raise ValueError(f"out: {out} exists; a rosbag2 export writes a new folder")
+    if ros1_path is not None and Path(ros1_path).exists():  # (as the folder: nothing lost)
+        raise ValueError(f"ros1: {ros1_path} exists; the export writes a new .bag file")
     ros2 = _Messages(ros1=False)
     counts = dict.fromkeys(TOPICS, 0)
     items = episode_messages(dataset, episode, ros2, time_offset_s)  # checks before writing
@@ -366,7 +368,7 @@ def export_bag(
 
 
 def _write_ros1(dataset: ScanDataset, episode: int, path: Path, time_offset_s: float) -> None:
-    """The same messages as a ROS 1 ``.bag`` file (replacing ``path`` when it exists)."""
+    """The same messages as a ROS 1 ``.bag`` file (``path``, written whole or not at all)."""
     ros1 = _Messages(ros1=True)
     with staged_file(path) as file, Ros1Writer(file) as writer:
         connections = {

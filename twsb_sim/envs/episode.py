@@ -54,13 +54,13 @@ def fall_reason(
         return "unstable: the physics diverged"
     if abs(truth.pitch_rad) > fall_pitch_rad:
         return (
-            f"pitch: |pitch| {abs(math.degrees(truth.pitch_rad)):.0f} deg"
-            f" > {math.degrees(fall_pitch_rad):.0f} deg"
+            f"pitch: |pitch| {abs(math.degrees(truth.pitch_rad)):.1f} deg"
+            f" > {math.degrees(fall_pitch_rad):g} deg"
         )
     if abs(truth.roll_rad) > fall_roll_rad:
         return (
-            f"roll: |roll| {abs(math.degrees(truth.roll_rad)):.0f} deg"
-            f" > {math.degrees(fall_roll_rad):.0f} deg"
+            f"roll: |roll| {abs(math.degrees(truth.roll_rad)):.1f} deg"
+            f" > {math.degrees(fall_roll_rad):g} deg"
         )
     return ""
 

@@ -122,7 +122,8 @@ LEGEND = """\
 **Decision**: *green* true positive (removed, pitch-variation point), *red* false
 positive, *magenta* false negative (kept, pitch-variation point), *grey* true negative;
 white halo: removed. **Boxes**: removed clusters, *red* detected in this scan, *orange*
-tracked from the last one, labelled with id and P(C_pv). **Level view** (improved
+tracked from the last one, labelled with id and score (the paper's P(C_pv), the improved
+filter's claim score; the same in the *Beam score* plot). **Level view** (improved
 filter): small *light blue* dots where the remembered level scans put the structure
 along each beam; a return in front of it is new. **Clusters**: a colour each.
 **3D**: hits by label: floor *orange*, ceiling *blue*, table tops *yellow*, walls

@@ -128,7 +128,7 @@ def default_blueprint(start: tuple[float, float, float] | None = None) -> rrb.Bl
         _plot("Wheel torques", paths.PLOT_WHEEL_TORQUE),
         _plot("Pitch-variation beams", paths.PLOT_BEAMS),
         _plot("Precision / recall per frame", paths.PLOT_PRECISION_RECALL),
-        _plot("P(C_pv)", paths.PLOT_P_PV),
+        _plot("Beam score", paths.PLOT_P_PV),
         grid_columns=5,
     )
     return rrb.Blueprint(

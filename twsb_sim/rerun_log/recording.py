@@ -97,7 +97,11 @@ def open_recording(args: argparse.Namespace) -> rr.RecordingStream | None:
     server = rr.GrpcServerSink() if args.serve else None
     if server is not None:
         sinks.append(server)
-    rec.set_sinks(*sinks)
+    try:
+        rec.set_sinks(*sinks)
+    except RuntimeError as error:  # (Rerun opens the files here: a place none can be made)
+        flag = "--rrd" if args.rrd else "--save"
+        raise ConfigError(flag, "", f"cannot write the recording: {error}") from None
     if server is not None:
         rr.serve_web_viewer(open_browser=True, connect_to=server.uri)
     return rec

@@ -188,6 +188,11 @@ def run_tune(args: argparse.Namespace) -> int:
     for warning in warnings:
         print(f"twsb tune: warning: {warning}", file=sys.stderr)
     print(f"parameters written to {args.out} (pvfilter --params {args.out})")
+    if args.quick:  # (its held-out scores can read 0: one short episode, one sweep)
+        print(
+            "note: --quick is a smoke run of the command (a few short episodes, one "
+            "sweep): its scores and parameters say nothing; tune without it for use"
+        )
     return 0
 
 

@@ -240,6 +240,16 @@ def test_a_sqlite3_bag_is_filtered_into_a_sqlite3_bag(tmp_path, capsys):
     assert types["/scan/filtered"] == "sensor_msgs/msg/LaserScan"
 
 
+def test_a_bare_mcap_file_is_filtered_into_an_mcap_bag(tmp_path, capsys):
+    source = write_scans(tmp_path / "in", [1.0, 1.1, 1.2, 1.3], storage="MCAP")
+    (bare,) = source.glob("*.mcap")  # the file alone, as rosbags reads it
+    assert main(["bag", str(bare), str(tmp_path / "out"), "--quiet"]) == 0
+    assert "paper filter on /scan, 4 scans" in capsys.readouterr().out
+    out = tmp_path / "out"
+    assert [f.suffix for f in out.iterdir() if f.suffix in (".db3", ".mcap")] == [".mcap"]
+    assert len(read_bag(out)[0]["/scan/filtered"]) == 4
+
+
 def test_without_rosbags_the_error_names_the_extra(tmp_path, monkeypatch, capsys):
     for name in [m for m in sys.modules if m == "rosbags" or m.startswith("rosbags.")]:
         monkeypatch.delitem(sys.modules, name)

@@ -8,18 +8,22 @@ import numpy as np
 import pytest
 
 from pvfilter import (
+    FilterParams,
     FilterResult,
     ImprovedParams,
     ImprovedPitchVariationFilter,
     ImprovedResult,
+    PitchVariationFilter,
     Scan,
     ScanFilter,
+    ScansApartWarning,
     StampWentBackWarning,
 )
 from pvfilter.improved.egomotion import MAX_SPEED_MPS
 from pvfilter.improved.evidence import RecentScans
 from pvfilter.improved.filter import STATIC_BASELINE_S, blind_margin_m
 from pvfilter.improved.imu import ImuSignWarning
+from pvfilter.paper.threaded import ThreadedPitchVariationFilter
 from pvfilter.synthetic import (
     BLOCKED_SECTOR,
     cross_line,
@@ -232,12 +236,14 @@ def test_a_time_gap_starts_afresh_and_removes_nothing():
     result = pvf.process(late)
     assert on_floor.sum() > 50 and not result.removed.any() and result.lines.new_sequence
     # a low-rate log: scans 0.7 s apart, the sensor driving and turning between them
+    # (the filter says, once, that it compares none of them)
     pvf.reset()
-    for k in range(10):
-        pose = (-1.0 + 0.3 * k, 0.2 * math.sin(k), 0.4 * k)
-        assert not pvf.process(
-            room_scan(pose, stamp=0.7 * k, seed=k, extra=CLUTTER)[0]
-        ).removed.any()
+    with pytest.warns(ScansApartWarning, match="recorded this slowly"):
+        for k in range(10):
+            pose = (-1.0 + 0.3 * k, 0.2 * math.sin(k), 0.4 * k)
+            assert not pvf.process(
+                room_scan(pose, stamp=0.7 * k, seed=k, extra=CLUTTER)[0]
+            ).removed.any()
 
 
 def test_at_two_scans_a_second_the_drive_is_searched_and_a_floor_line_removed():
@@ -469,6 +475,20 @@ def test_reset_and_stamps_going_back():
         pvf.process(frames[0][0][0])  # equal stamps are fine
 
 
+def test_stamps_not_in_seconds_are_warned_of_once():
+    scans = room_sequence(40).scans
+    in_ns = [dataclasses.replace(scan, stamp=scan.stamp * 1e9) for scan in scans]
+    pvf = ImprovedPitchVariationFilter()
+    with pytest.warns(ScansApartWarning, match="Are the stamps in seconds") as caught:
+        results = [pvf.process(scan) for scan in in_ns]
+    assert len([w for w in caught if w.category is ScansApartWarning]) == 1
+    assert not any(result.removed.any() for result in results)  # no two scans compared
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # stamps in seconds: no warning
+        pvf.reset()
+        assert any(pvf.process(scan).removed.any() for scan in scans)
+
+
 def test_roll_without_pitch_and_bad_attitudes_are_refused():
     (scan, _), _ = next(drive(frames=1))
     pvf = ImprovedPitchVariationFilter()
@@ -476,6 +496,27 @@ def test_roll_without_pitch_and_bad_attitudes_are_refused():
         pvf.process(scan, roll_rad=0.1)
     with pytest.raises(ValueError, match="pitch_rad"):
         pvf.process(scan, pitch_rad=float("nan"))
+    with pytest.raises(ValueError, match=r"pitch_rad: must be within \+/- pi rad.*degrees"):
+        pvf.process(scan, pitch_rad=10.0)  # degrees given as radians
+    with pytest.raises(ValueError, match="roll_rad: must be within"):
+        pvf.process(scan, pitch_rad=0.1, roll_rad=-4.0)
+    pvf.process(scan, pitch_rad=1.8, roll_rad=-3.0)  # a robot on its back: angles still
+
+
+def test_what_is_not_a_scan_or_not_its_parameters_is_named():
+    with pytest.raises(TypeError, match=r"scan: must be a pvfilter\.Scan, got ndarray"):
+        ImprovedPitchVariationFilter().process(np.full(720, 4.0))
+    with pytest.raises(TypeError, match=r"scan: must be a pvfilter\.Scan"):
+        PitchVariationFilter().process(np.full(720, 4.0))
+    with pytest.raises(TypeError, match="ImprovedPitchVariationFilter: expects ImprovedParams"):
+        ImprovedPitchVariationFilter(FilterParams())
+    with pytest.raises(TypeError, match="PitchVariationFilter: expects FilterParams"):
+        PitchVariationFilter(ImprovedParams())
+    with pytest.raises(TypeError, match="ThreadedPitchVariationFilter: expects FilterParams"):
+        ThreadedPitchVariationFilter(ImprovedParams())
+    with ThreadedPitchVariationFilter() as threaded:
+        with pytest.raises(TypeError, match=r"scan: must be a pvfilter\.Scan"):
+            threaded.process(np.full(720, 4.0))
 
 
 def test_odometry_whose_yaw_wraps_through_pi_filters_as_unwrapped_odometry():

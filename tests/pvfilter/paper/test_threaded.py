@@ -65,10 +65,22 @@ def test_reset_takes_effect_in_scan_order():
         assert_same(a, b)
 
 
-def test_errors_reach_the_caller_and_the_threads_keep_running():
+def test_errors_reach_the_caller_and_the_threads_keep_running(monkeypatch):
     scans = list(random_sequence(2, seed=1))
     with ThreadedPitchVariationFilter() as threaded:
-        threaded.submit("not a scan")
-        with pytest.raises(AttributeError):
+        with pytest.raises(TypeError, match="must be a pvfilter"):  # refused at once
+            threaded.submit("not a scan")
+        detect = threaded._filter.cluster_and_detect
+        calls = iter([RuntimeError("failed in the detection thread")])
+
+        def failing_once(scan):
+            error = next(calls, None)
+            if error is not None:
+                raise error
+            return detect(scan)
+
+        monkeypatch.setattr(threaded._filter, "cluster_and_detect", failing_once)
+        threaded.submit(scans[0])
+        with pytest.raises(RuntimeError, match="detection thread"):
             threaded.result(timeout=10.0)
         assert len(threaded.process(scans[0]).removed) == 720

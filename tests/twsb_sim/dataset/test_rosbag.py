@@ -125,6 +125,20 @@ def test_export_refuses_a_missing_episode(reference, tmp_path, capsys):
     assert "no episode 999" in capsys.readouterr().err
 
 
+def test_export_refuses_an_existing_ros1_bag_and_keeps_it(reference, tmp_path, capsys):
+    taken = tmp_path / "episode.bag"
+    taken.write_bytes(b"keep me")
+    argv = ["export-bag", str(reference), "--out", str(tmp_path / "b"), "--ros1", str(taken)]
+    assert main(argv) == 2
+    error = capsys.readouterr().err
+    assert "--ros1" in error and "exists" in error
+    assert taken.read_bytes() == b"keep me" and not (tmp_path / "b").exists()
+    dataset = open_dataset(reference)
+    with pytest.raises(ValueError, match="exists"):  # the library refuses it too
+        export_bag(dataset, dataset.episode_ids[0], tmp_path / "c", ros1_path=taken)
+    assert taken.read_bytes() == b"keep me" and not (tmp_path / "c").exists()
+
+
 def test_a_format_1_data_set_exports_its_truth(reference, tmp_path):
     old = tmp_path / "old"
     as_format_1(reference, old)

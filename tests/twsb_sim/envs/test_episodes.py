@@ -40,6 +40,10 @@ def test_random_torques_fall_and_terminate_with_the_reason() -> None:
             break
     assert terminated and not truncated
     assert info["fall_reason"].startswith(("pitch:", "roll:"))
+    # the reading to a tenth of a degree: "45 deg > 45 deg" read as false
+    reading = info["fall_reason"].split("| ")[1].split(" deg")[0]
+    assert float(reading) > 45.0 and len(reading.split(".")[1]) == 1
+    assert info["fall_reason"].endswith(" deg > 45 deg")
     assert info["time_s"] < 5.0
     assert info["reward_fall"] == -10.0 and reward < -9.0
 

@@ -113,7 +113,8 @@ def test_held_out_episodes_without_pitch_variation_are_not_scored():
 
 
 def test_quick_tune_writes_a_file_pvfilter_loads(quick_tune):
-    quick_tune, _ = quick_tune
+    quick_tune, printed = quick_tune
+    assert "--quick is a smoke run" in printed
     params = load_params(quick_tune)
     assert isinstance(params, ImprovedParams)
     text = quick_tune.read_text()
