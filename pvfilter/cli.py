@@ -21,6 +21,7 @@ import numpy as np
 
 from pvfilter.cli_options import (
     add_filter_options,
+    default_filter_note,
     filter_options,
     geometry_note,
     robot_inputs,
@@ -123,9 +124,12 @@ def _filter_file(args: argparse.Namespace) -> int:
     )
     if scans and not valid:
         print(f"pvfilter: {source}: {NO_VALID_BEAM}")
-    note = geometry_note("pvfilter", args, params, stated)
-    if note:
-        print(note)
+    for note in (
+        default_filter_note("pvfilter", args),
+        geometry_note("pvfilter", args, params, stated),
+    ):
+        if note:
+            print(note)
     if labels is not None and scans:
         print(_label_score(labels, scans, results))
     print(f"pvfilter: wrote {output}")

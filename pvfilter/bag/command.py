@@ -32,7 +32,12 @@ from pvfilter.bag.outputs import open_output
 from pvfilter.bag.progress import Progress
 from pvfilter.bag.staging import staged_output
 from pvfilter.bag.wire import read_scan
-from pvfilter.cli_options import add_filter_options, chosen_filter, geometry_note
+from pvfilter.cli_options import (
+    add_filter_options,
+    chosen_filter,
+    default_filter_note,
+    geometry_note,
+)
 from pvfilter.contract import ScanFilter
 from pvfilter.exits import run_command
 from pvfilter.scan import Scan
@@ -111,9 +116,12 @@ def filter_bag(args: argparse.Namespace) -> int:
         f"pvfilter bag: {entry.name} filter on {inputs.scan_topic}, {count} scans{used}, "
         f"removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
-    note = geometry_note("pvfilter bag", args, params, {})
-    if note:
-        print(note)
+    for note in (
+        default_filter_note("pvfilter bag", args),
+        geometry_note("pvfilter bag", args, params, {}),
+    ):
+        if note:
+            print(note)
     print(f"pvfilter bag: wrote {out} (+ {inputs.filtered_topic}, {inputs.removed_topic})")
     return 0
 

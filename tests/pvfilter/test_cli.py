@@ -192,3 +192,12 @@ def test_a_file_without_a_valid_beam_is_noted_not_passed_as_clean(tmp_path, caps
     np.savez(tmp_path / "m.npz", **arrays)
     assert main([str(tmp_path / "m.npz"), str(tmp_path / "out.npz"), "--improved"]) == 0
     assert "no beam lies within" not in capsys.readouterr().out
+
+
+def test_the_paper_filter_run_by_default_says_so(scan_file, tmp_path, capsys):
+    out = tmp_path / "out.npz"
+    assert main([str(scan_file), str(out)]) == 0
+    assert "the paper's filter ran, the default; --improved runs" in capsys.readouterr().out
+    for chosen in (["--improved"], ["--filter", "paper"], ["--filter", "improved"]):
+        assert main([str(scan_file), str(out), *chosen]) == 0
+        assert "the default" not in capsys.readouterr().out

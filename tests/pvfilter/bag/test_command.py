@@ -229,7 +229,9 @@ def test_a_sqlite3_bag_is_filtered_into_a_sqlite3_bag(tmp_path, capsys):
     source = write_scans(tmp_path / "in", [1.0, 1.1, 1.2, 1.3], storage="SQLITE3")
     assert [f.suffix for f in source.iterdir() if f.suffix in (".db3", ".mcap")] == [".db3"]
     assert main(["bag", str(source), str(tmp_path / "out"), "--quiet"]) == 0
-    assert "paper filter on /scan, 4 scans" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "paper filter on /scan, 4 scans" in printed
+    assert "pvfilter bag: the paper's filter ran, the default" in printed
     out = tmp_path / "out"
     assert [f.suffix for f in out.iterdir() if f.suffix in (".db3", ".mcap")] == [".db3"]
     after, types = read_bag(out)
