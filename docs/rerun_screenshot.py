@@ -121,7 +121,7 @@ def main() -> int:
         lines = log.read().decode(errors="replace").strip().splitlines()
         # the viewer's own reason (a Rust panic) comes before its backtrace: the last
         # lines alone are frames of the backtrace
-        reasons = [line for line in lines if "panicked" in line or "rror" in line][:3]
+        reasons = [line for line in lines if "panicked" in line or "error" in line.lower()][:3]
         print(f"rerun_screenshot: {error}", *(reasons or lines[-5:]), sep="\n  ", file=sys.stderr)
         if any("render context" in line or "Vulkan" in line for line in lines):
             print(NO_VULKAN_HINT, file=sys.stderr)

@@ -21,9 +21,8 @@ import numpy as np
 
 from pvfilter.cli_options import (
     add_filter_options,
-    default_filter_note,
+    filter_notes,
     filter_options,
-    geometry_note,
     robot_inputs,
     with_geometry,
 )
@@ -124,12 +123,8 @@ def _filter_file(args: argparse.Namespace) -> int:
     )
     if scans and not valid:
         print(f"pvfilter: {source}: {NO_VALID_BEAM}")
-    for note in (
-        default_filter_note("pvfilter", args),
-        geometry_note("pvfilter", args, params, stated),
-    ):
-        if note:
-            print(note)
+    for note in filter_notes("pvfilter", args, params, stated):
+        print(note)
     if labels is not None and scans:
         print(_label_score(labels, scans, results))
     print(f"pvfilter: wrote {output}")

@@ -159,6 +159,15 @@ def default_filter_note(command: str, args: argparse.Namespace) -> str:
     )
 
 
+def filter_notes(
+    command: str, args: argparse.Namespace, params: Any, stated: Mapping[str, float]
+) -> list[str]:
+    """The lines a filtering command prints after its summary: which filter ran when no
+    option chose it, and the robot geometry it ran with (see the two notes)."""
+    notes = (default_filter_note(command, args), geometry_note(command, args, params, stated))
+    return [note for note in notes if note]
+
+
 def geometry_note(
     command: str, args: argparse.Namespace, params: Any, stated: Mapping[str, float]
 ) -> str:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -112,11 +112,15 @@ def check_scan(scan: object) -> None:
         )
 
 
-def check_params(params: object, expected: type, filter_name: str) -> None:
-    """Refuse parameters of another filter with a message that names both.
+def params_or_defaults(params: object, expected: type, filter_name: str) -> Any:
+    """``params``, or the defaults (``expected()``) when None; parameters of another
+    filter are refused with a message that names both.
 
     Raises:
-        TypeError: ``params`` is not an ``expected``.
+        TypeError: ``params`` is neither None nor an ``expected``.
     """
+    if params is None:
+        return expected()
     if not isinstance(params, expected):
         raise TypeError(f"{filter_name}: expects {expected.__name__}, got {type(params).__name__}")
+    return params

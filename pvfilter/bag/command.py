@@ -35,8 +35,7 @@ from pvfilter.bag.wire import read_scan
 from pvfilter.cli_options import (
     add_filter_options,
     chosen_filter,
-    default_filter_note,
-    geometry_note,
+    filter_notes,
 )
 from pvfilter.contract import ScanFilter
 from pvfilter.exits import run_command
@@ -116,12 +115,8 @@ def filter_bag(args: argparse.Namespace) -> int:
         f"pvfilter bag: {entry.name} filter on {inputs.scan_topic}, {count} scans{used}, "
         f"removed {removed} of {valid} valid beams ({share:.2f} %), {rate:.0f} scans/s"
     )
-    for note in (
-        default_filter_note("pvfilter bag", args),
-        geometry_note("pvfilter bag", args, params, {}),
-    ):
-        if note:
-            print(note)
+    for note in filter_notes("pvfilter bag", args, params, {}):
+        print(note)
     print(f"pvfilter bag: wrote {out} (+ {inputs.filtered_topic}, {inputs.removed_topic})")
     return 0
 

@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pvfilter.contract import check_attitude, check_params, check_pose, check_scan
+from pvfilter.contract import check_attitude, check_pose, check_scan, params_or_defaults
 from pvfilter.improved.anchor import (
     REFINE_ASSOCIATION_M,
     explains_both_ends,
@@ -164,9 +164,7 @@ class ImprovedPitchVariationFilter:
     """
 
     def __init__(self, params: ImprovedParams | None = None) -> None:
-        if params is not None:
-            check_params(params, ImprovedParams, "ImprovedPitchVariationFilter")
-        self.params = params if params is not None else ImprovedParams()
+        self.params = params_or_defaults(params, ImprovedParams, "ImprovedPitchVariationFilter")
         self._memory = LevelMemory()
         self._ego = EgoMotion(self.params)
         self._layout: BeamLayout | None = None

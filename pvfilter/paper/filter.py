@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from pvfilter.clusters import ClusterView
-from pvfilter.contract import check_params, check_scan
+from pvfilter.contract import check_scan, params_or_defaults
 from pvfilter.paper.clustering import cluster_scan
 from pvfilter.paper.detection import Detection, detect_clusters
 from pvfilter.paper.params import FilterParams
@@ -123,9 +123,7 @@ class PitchVariationFilter:
     """
 
     def __init__(self, params: FilterParams | None = None) -> None:
-        if params is not None:
-            check_params(params, FilterParams, "PitchVariationFilter")
-        self.params = params if params is not None else FilterParams()
+        self.params = params_or_defaults(params, FilterParams, "PitchVariationFilter")
         self._tracker = Tracker(self.params)
         self._previous_tree: cKDTree | None = None  # T_kd^{t-1}
         self._previous_stamp: float | None = None

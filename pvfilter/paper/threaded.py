@@ -16,7 +16,7 @@ import queue
 import threading
 from collections.abc import Iterable, Iterator
 
-from pvfilter.contract import check_params, check_scan
+from pvfilter.contract import check_scan, params_or_defaults
 from pvfilter.paper.filter import PaperResult, PitchVariationFilter
 from pvfilter.paper.params import FilterParams
 from pvfilter.scan import Scan
@@ -40,8 +40,8 @@ class ThreadedPitchVariationFilter:
     """
 
     def __init__(self, params: FilterParams | None = None, max_pending: int = 8) -> None:
-        if params is not None:  # (named as this filter, before a thread starts)
-            check_params(params, FilterParams, "ThreadedPitchVariationFilter")
+        # (refused as this filter's, before a thread starts)
+        params = params_or_defaults(params, FilterParams, "ThreadedPitchVariationFilter")
         self._filter = PitchVariationFilter(params)
         self.max_pending = max_pending
         self._scans: queue.Queue = queue.Queue(maxsize=max_pending)
