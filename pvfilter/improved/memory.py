@@ -106,24 +106,44 @@ class LevelView:
 
     Attributes:
         ranges: m; NaN unknown, ``+inf`` free up to ``range_max``.
-        ages: s since a level return last confirmed the beam.
-        ahead_s: s for which the beam's returns have been in front of the view.
-        farther_s: s for which the beam's level returns have been beyond the view.
-        dropped_m: how far in front of the view stood the surface it gave up when space
-            seen free beyond it joined, m (NaN: none).
-        dropped_s: s since it gave that surface up.
+        carried: the values each beam carries along besides its range, one row each
+            (``ages``, ``ahead_s``, ``farther_s``, ``dropped_s``, ``dropped_m``), ``(5,
+            count)``: moving the view gathers them in one take, and a scan advances the
+            four clocks in one add.
         free_m: per free beam (``ranges`` ``+inf``), how far the space along it is known
             free, m: ``range_max`` where a level scan last saw no echo there, less as the
             sensor comes closer (NaN elsewhere; None: ``range_max`` on every free beam).
     """
 
     ranges: np.ndarray
-    ages: np.ndarray
-    ahead_s: np.ndarray
-    farther_s: np.ndarray
-    dropped_m: np.ndarray
-    dropped_s: np.ndarray
+    carried: np.ndarray
     free_m: np.ndarray | None = None
+
+    @property
+    def ages(self) -> np.ndarray:
+        """s since a level return last confirmed the beam."""
+        return self.carried[0]
+
+    @property
+    def ahead_s(self) -> np.ndarray:
+        """s for which the beam's returns have been in front of the view."""
+        return self.carried[1]
+
+    @property
+    def farther_s(self) -> np.ndarray:
+        """s for which the beam's level returns have been beyond the view."""
+        return self.carried[2]
+
+    @property
+    def dropped_s(self) -> np.ndarray:
+        """s since the view gave up the surface of :attr:`dropped_m`."""
+        return self.carried[3]
+
+    @property
+    def dropped_m(self) -> np.ndarray:
+        """How far in front of the view stood the surface it gave up when space seen free
+        beyond it joined, m (NaN: none)."""
+        return self.carried[4]
 
     def known_free_m(self) -> np.ndarray:
         """Per beam, where the view lies for new returns, m: its surface, or on a free
@@ -150,11 +170,10 @@ class LevelView:
     @classmethod
     def seen(cls, ranges: np.ndarray, ages: np.ndarray) -> LevelView:
         """A view of ``ranges`` with ``ages``, its clocks at 0, no surface given up."""
-        n = len(ranges)
-        dropped_m, dropped_s = np.empty(n), np.empty(n)  # np.full: a Python-level call each
-        dropped_m.fill(np.nan)
-        dropped_s.fill(np.inf)
-        return cls(ranges, ages, np.zeros(n), np.zeros(n), dropped_m, dropped_s)
+        carried = np.empty((len(_NOTHING), len(ranges)))
+        carried[:] = _NOTHING
+        carried[0] = ages
+        return cls(ranges, carried)
 
 
 class LevelMemory:
@@ -235,11 +254,10 @@ class LevelMemory:
         source.fill(-1)  # (np.full costs a Python-level call)
         source[beams.take(order)] = order
         _fill_single_holes(nearest, source, layout.ring)
-        view = LevelView(nearest, *(values.take(source) for values in _carried(state)))
+        view = LevelView(nearest, state.carried.take(source, axis=1))
         unseen = indices(source < 0)  # (mostly none: on a full turn, double holes only)
         if unseen.size:  # no point landed there or beside it: the view knows nothing
-            for values, nothing in zip(_carried(view), _NOTHING, strict=True):
-                values[unseen] = nothing
+            view.carried[:, unseen] = _NOTHING
         # free space stays free where a beam was carried from a free one (as a surface,
         # the moved point that bounds it would put every wall coming into view in front
         # of it; a beam no point landed on, source -1, takes the last beam's here, and its
@@ -269,8 +287,7 @@ class LevelMemory:
             return
         # (in place: the state is this memory's own; view() builds new arrays from it)
         forget = indices(beams)
-        for values, nothing in zip(_carried(state), _NOTHING, strict=True):
-            values[forget] = nothing
+        state.carried[:, forget] = _NOTHING
         state.ranges[forget] = np.nan
         if state.free_m is not None:
             state.free_m[forget] = np.nan
@@ -341,7 +358,12 @@ class LevelMemory:
             np.subtract(current, creep, out=floor, where=across)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
-        dropped_m, dropped_s = view.dropped_m.copy(), view.dropped_s + dt
+        # the four clocks run on by dt in one add (a tilted scan puts back the two that
+        # stand still in it), the surfaces given up are copied
+        carried = np.empty_like(view.carried)
+        np.add(view.carried[:4], dt, out=carried[:4])
+        carried[4] = view.carried[4]
+        ages, ahead, farther, dropped_s, dropped_m = carried
         if level and back is not None and np.count_nonzero(back):  # taken back at once
             floor[back] = -np.inf
             dropped_m[back] = np.nan
@@ -349,13 +371,13 @@ class LevelMemory:
         in_front = ranges < floor  # NaN (invalid) compares False
         if past_free.size:
             in_front[past_free] = False
-        # in front of the view this long: the clocks are finite and >= 0 (sums of time
-        # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
-        ahead = view.ahead_s + dt
-        # in a level scan a beam without an echo says nothing of what stands in front of
-        # the view (a dark wall echoes on some scans only): its clock runs on if it ran,
-        # and a return settles the view only when there is one (in a tilted scan the
-        # floor line moves with the pitch: where it went silent, it has moved on)
+        # in front of the view this long (ahead: ahead_s + dt): the clocks are finite and
+        # >= 0 (sums of time steps), so times True or False is np.where(in_front, ahead_s +
+        # dt, 0.0), cheaper. In a level scan a beam without an echo says nothing of what
+        # stands in front of the view (a dark wall echoes on some scans only): its clock
+        # runs on if it ran, and a return settles the view only when there is one (in a
+        # tilted scan the floor line moves with the pitch: where it went silent, it has
+        # moved on)
         ahead *= in_front | (no_return & (view.ahead_s > 0.0)) if level else in_front
         settling = (ahead > params.max_event_s) & in_front
         if travelling is not None:  # (a floor line held past an event's length: not yet)
@@ -370,9 +392,8 @@ class LevelMemory:
                 if free_m is not None:  # (no longer free there)
                     free_m = free_m.copy()
                     free_m[settled] = np.nan
-            self.state = LevelView(
-                current, view.ages, ahead, view.farther_s, dropped_m, dropped_s, free_m
-            )
+            carried[0], carried[2] = view.ages, view.farther_s
+            self.state = LevelView(current, carried, free_m)
             return
         margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
         beyond = ranges > current + margin
@@ -399,7 +420,6 @@ class LevelMemory:
             freed[1:] &= measured[:-1]
             freed[:-1] &= measured[1:]
             beyond |= freed
-        farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
@@ -420,7 +440,6 @@ class LevelMemory:
             np.copyto(current, ranges, where=valid & take)
             current[no_return & take] = np.inf
             farther[take] = 0.0
-        ages = view.ages + dt
         confirmed = measured  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
@@ -432,7 +451,7 @@ class LevelMemory:
             free_m = np.full(len(current), np.nan) if view.free_m is None else view.free_m.copy()
             free_m[~free] = np.nan
             free_m[no_return & free] = range_max
-        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s, free_m)
+        self.state = LevelView(current, carried, free_m)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -533,8 +552,7 @@ def _forget_carried_silence(
     if not np.count_nonzero(carried):  # (most scans: no turn, or no silence to carry)
         return
     forget = indices(carried)
-    for values, nothing in zip(_carried(view), _NOTHING, strict=True):
-        values[forget] = nothing
+    view.carried[:, forget] = _NOTHING
     view.ranges[forget] = np.nan
 
 
@@ -596,11 +614,8 @@ def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> No
     source[hole] = source.take(neighbour)
 
 
-def _carried(view: LevelView) -> tuple[np.ndarray, ...]:
-    """The per-beam values a beam's view carries along besides its range."""
-    return view.ages, view.ahead_s, view.farther_s, view.dropped_m, view.dropped_s
-
-
-# the values of :func:`_carried` where the view knows nothing (as :meth:`LevelView.seen`
-# with an infinite age): never confirmed, no clock running, no surface given up
-_NOTHING = (np.inf, 0.0, 0.0, np.nan, np.inf)
+# the values of :attr:`LevelView.carried` where the view knows nothing (as
+# :meth:`LevelView.seen` with an infinite age): never confirmed, no clock running, no
+# surface given up; a column, to write into the rows at once
+_NOTHING = np.array([[np.inf], [0.0], [0.0], [np.inf], [np.nan]])
+_NOTHING.flags.writeable = False
