@@ -89,10 +89,14 @@ class BeamLayout:
         bearing -= self.angle_min  # in place: this runs on every beam of every scan
         bearing /= self.increment
         beams = np.rint(bearing, out=bearing).astype(np.intp)
+        # one gather from a table of the beams, at a third of the cost of an integer
+        # remainder or of three masks: on a ring "wrap" takes the index modulo count; off
+        # a ring the table has -1 on either side of the beams, and "clip" maps every index
+        # past them onto one of those
         if self.ring:
-            return np.remainder(beams, self.count, out=beams)
-        beams[(beams < 0) | (beams >= self.count)] = -1
-        return beams
+            return self.every_beam().take(beams, mode="wrap")
+        beams += 1  # (the table's first beam)
+        return self._beams_or_outside().take(beams, mode="clip")
 
     def hits_along_x(
         self, points: np.ndarray, ranges: np.ndarray, shifts_m: np.ndarray, tolerance_m: float
@@ -114,6 +118,16 @@ class BeamLayout:
             every.flags.writeable = False
             self._remember("every", every)
         return self._tables["every"]
+
+    def _beams_or_outside(self) -> np.ndarray:
+        """``-1, 0, 1, .., count - 1, -1`` (cached; not to be changed): beam ``i`` at
+        ``i + 1``, outside the scan's angles at either end."""
+        if "outside" not in self._tables:
+            table = np.arange(-1, self.count + 1)
+            table[-1] = -1
+            table.flags.writeable = False
+            self._remember("outside", table)
+        return self._tables["outside"]
 
     def mid_scan_offsets(self) -> np.ndarray:
         """Each beam's index less the middle one's, ``i - (count - 1) / 2`` (cached): times
