@@ -49,12 +49,11 @@ def free_space_gaps(
     level view saw nothing, it saw free space up to ``range_max`` and no farther: a wall
     that comes into range is not new.
     """
-    unknown = np.isnan(level)
     # unknown and farther than range_max: range_max, before the window's minimum (the
     # least of values capped at range_max is the least of them, capped)
-    nearest = window_minimum(np.fmin(level, range_max), WINDOW_BEAMS, layout)
-    gaps = nearest - ranges
-    gaps[unknown] = np.nan
+    gaps = window_minimum(level, WINDOW_BEAMS, layout, range_max)
+    gaps -= ranges  # (in place: the window's minimum is a new array)
+    np.putmask(gaps, np.isnan(level), np.nan)  # (putmask: a boolean index costs more)
     return gaps
 
 
@@ -100,25 +99,29 @@ def free_space_evidence(
     return new, gaps < np.negative(margin, out=margin)
 
 
-def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:
-    """The least of ``values`` over beams ``i - half .. i + half`` (no NaN in ``values``).
+def window_minimum(
+    values: np.ndarray, half: int, layout: BeamLayout, cap: float = math.inf
+) -> np.ndarray:
+    """The least of ``values`` over beams ``i - half .. i + half``, each capped at ``cap``
+    first (NaN counts as ``cap``). A new array.
 
     As ``scipy.ndimage.minimum_filter1d`` (wrapping on a ring, else repeating the end
     values), but for the usual window of three beams two ``np.minimum`` calls on a padded
-    copy cost a fraction of scipy's set-up.
+    copy cost a fraction of scipy's set-up; the capped values are written into that copy
+    at once.
     """
     n = len(values)
     if half == 0 or n == 0:
-        return values
+        return np.fmin(values, cap)
     if half >= n or half > 4:
         mode = "wrap" if layout.ring else "nearest"
-        return minimum_filter1d(values, 2 * half + 1, mode=mode)
+        return minimum_filter1d(np.fmin(values, cap), 2 * half + 1, mode=mode)
     padded = np.empty(n + 2 * half)  # (filled by slices: cheaper than np.concatenate)
-    padded[half : n + half] = values
+    np.fmin(values, cap, out=padded[half : n + half])
     if layout.ring:
-        padded[:half], padded[n + half :] = values[n - half :], values[:half]
+        padded[:half], padded[n + half :] = padded[n : n + half], padded[half : 2 * half]
     else:
-        padded[:half], padded[n + half :] = values[0], values[n - 1]
+        padded[:half], padded[n + half :] = padded[half], padded[n + half - 1]
     least = np.minimum(padded[:n], padded[1 : n + 1])
     for offset in range(2, 2 * half + 1):
         np.minimum(least, padded[offset : offset + n], out=least)
