@@ -218,7 +218,9 @@ class LevelMemory:
         # free space is a point where it is known free to, an unknown beam (fmin ignores
         # NaN) one at range_max: every beam has a point to move (range_max is finite), so
         # no beam is left out
-        remembered = np.fmin(state.known_free_m(), range_max)
+        remembered = np.fmin(state.ranges, range_max)
+        if state.free_m is not None:  # (state.known_free_m(), without its own array)
+            np.fmin(remembered, state.free_m, out=remembered)
         before_x, before_y = remembered * layout.cos, remembered * layout.sin
         x, y = move_xy(
             before_x,
@@ -244,16 +246,16 @@ class LevelMemory:
         too_near = _passed_near(before_x, before_y, x, y, ranges, travel_m + nearest_m, nearest_m)
         if too_near is not None:  # (mostly none)
             kept = indices(~too_near)
-            order, nearest = nearest_by_beam(beams.take(kept), ranges.take(kept), layout)
+            order, nearest, holes = nearest_by_beam(beams.take(kept), ranges.take(kept), layout)
             order = kept.take(order)
         else:
-            order, nearest = nearest_by_beam(beams, ranges, layout)
+            order, nearest, holes = nearest_by_beam(beams, ranges, layout)
         # per beam, the remembered beam whose values it carries on (-1: none); worked out
         # first, so that each of the values a beam carries is gathered once
         source = np.empty(layout.count, dtype=np.intp)
         source.fill(-1)  # (np.full costs a Python-level call)
         source[beams.take(order)] = order
-        unseen = _fill_single_holes(nearest, source, layout.ring)
+        unseen = _fill_single_holes(nearest, source, holes, layout.ring)
         view = LevelView(nearest, state.carried.take(source, axis=1))
         # no point landed on the unseen beams or beside them: the view knows nothing there
         if unseen.size:  # (mostly none: on a full turn, double holes only)
@@ -396,8 +398,11 @@ class LevelMemory:
             carried[0], carried[2] = view.ages, view.farther_s
             self.state = LevelView(current, carried, free_m)
             return
-        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
-        beyond = ranges > current + margin
+        # free_margin_m + free_margin_rel * ranges (finite), then the view plus it, in place
+        margin = np.fmin(ranges, 1e9)
+        margin *= params.free_margin_rel
+        margin += params.free_margin_m
+        beyond = ranges > np.add(current, margin, out=margin)
         if past_free.size:
             beyond[past_free] = True
         silent = no_return & (current != np.inf)
@@ -433,7 +438,7 @@ class LevelMemory:
                 dropped_m[gave_up] = ranges.take(gave_up) - current.take(gave_up)
                 dropped_s[gave_up] = 0.0
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
-        np.fmax(ranges, floor, out=current, where=valid & ~beyond)
+        np.fmax(ranges, floor, out=current, where=valid > beyond)  # (valid & ~beyond)
         if settled.size:
             current[settled] = ranges.take(settled)
         if taken:  # space seen free long enough joins the view (beyond it: none of the
@@ -444,7 +449,7 @@ class LevelMemory:
         confirmed = measured  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
-        ages[confirmed] = 0.0
+        np.putmask(ages, confirmed, 0.0)  # (a boolean index costs a third more)
         # free where the view is free; as far as range_max where this scan saw no echo
         free = current == np.inf
         free_m = None  # (no beam free: nothing to bound)
@@ -470,9 +475,10 @@ def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> 
 
 def nearest_by_beam(
     beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`nearest_first`, and per beam the range of its nearest point (NaN: no point
-    lands on it): the very ranges that order writes (ties have equal ranges)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`nearest_first`, per beam the range of its nearest point (NaN: no point
+    lands on it): the very ranges that order writes (ties have equal ranges), and the
+    beams no point lands on (indices, ascending)."""
     nearest = np.empty(layout.count)
     nearest.fill(np.nan)  # no point yet: fmin takes any range over NaN
     if layout.ring:  # on a ring every point lands on a beam
@@ -483,12 +489,13 @@ def nearest_by_beam(
         inside_beams = beams.take(inside)
         np.fmin.at(nearest, inside_beams, ranges.take(inside))
         order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
-    if order.size == np.count_nonzero(nearest == nearest):  # one nearest point per beam
-        return order, nearest
+    holes = indices(np.isnan(nearest))
+    if order.size == layout.count - holes.size:  # one nearest point per beam
+        return order, nearest, holes
     order = np.argsort(-ranges)
     if not layout.ring:
         order = order[beams[order] >= 0]
-    return order, nearest
+    return order, nearest, holes
 
 
 def _passed_near(
@@ -549,6 +556,8 @@ def _forget_carried_silence(
     # per remembered beam: free (or unknown, which a silent scan confirmed and the move
     # makes free space too) and silent now; +inf and NaN both fail "< inf"
     from_silence = no_echo > (remembered < np.inf)  # (no_echo & ~..., in one operation)
+    if not np.count_nonzero(from_silence):  # (a closed room: no silence to carry)
+        return
     carried = returned & from_silence.take(source)
     if not np.count_nonzero(carried):  # (most scans: no turn, or no silence to carry)
         return
@@ -578,12 +587,14 @@ def _past_free(
     return returned.take(indices(at >= bound - margin))
 
 
-def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> np.ndarray:
-    """Give beams that no remembered point landed on their nearer neighbour's range and
-    source (in place; ``ranges``: NaN where no point landed, ``source``: per beam, the
-    remembered beam whose values it carries on; ``ring``: the beams cover a full turn, so
-    beam 0 and the last are neighbours). Returns the beams left without (indices): no
-    point landed on them or beside them.
+def _fill_single_holes(
+    ranges: np.ndarray, source: np.ndarray, hole: np.ndarray, ring: bool
+) -> np.ndarray:
+    """Give beams that no remembered point landed on (``hole``: indices, ascending) their
+    nearer neighbour's range and source (in place; ``ranges``: NaN where no point landed,
+    ``source``: per beam, the remembered beam whose values it carries on; ``ring``: the
+    beams cover a full turn, so beam 0 and the last are neighbours). Returns the beams
+    left without (indices): no point landed on them or beside them.
 
     The two edges of a scan that covers less than a full turn are no neighbours: a turn
     that vacated the first beams had filled beam 0 with the view at the other edge of the
@@ -591,7 +602,6 @@ def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> np
     sees, stayed in the view as the turn carried it on (a 240-degree scanner turning in
     place: the wall at the edge 1 m in front of it, new, removed at score 1).
     """
-    hole = indices(np.isnan(ranges))
     n = len(ranges)
     if hole.size == 0 or hole.size == n:
         return hole
