@@ -119,6 +119,22 @@ class BeamLayout:
             self._remember("every", every)
         return self._tables["every"]
 
+    def neighbours(self) -> np.ndarray:
+        """Per beam, the beams on either side, ``(count, 2)``: ``i - 1`` and ``i + 1``,
+        wrapping on a ring (cached; not to be changed). Off a ring the first and the last
+        beam stand for themselves on the side beyond the field of view: asked about a beam
+        without a value (NaN), that side has none either."""
+        if "neighbours" not in self._tables:
+            beams = np.arange(self.count)
+            table = np.stack((beams - 1, beams + 1), axis=1)
+            if self.ring:
+                table[0, 0], table[-1, 1] = self.count - 1, 0
+            else:
+                table[0, 0], table[-1, 1] = 0, self.count - 1
+            table.flags.writeable = False
+            self._remember("neighbours", table)
+        return self._tables["neighbours"]
+
     def _beams_or_outside(self) -> np.ndarray:
         """``-1, 0, 1, .., count - 1, -1`` (cached; not to be changed): beam ``i`` at
         ``i + 1``, outside the scan's angles at either end."""

@@ -255,7 +255,7 @@ class LevelMemory:
         source = np.empty(layout.count, dtype=np.intp)
         source.fill(-1)  # (np.full costs a Python-level call)
         source[beams.take(order)] = order
-        unseen = _fill_single_holes(nearest, source, holes, layout.ring)
+        unseen = _fill_single_holes(nearest, source, holes, layout)
         view = LevelView(nearest, state.carried.take(source, axis=1))
         # no point landed on the unseen beams or beside them: the view knows nothing there
         if unseen.size:  # (mostly none: on a full turn, double holes only)
@@ -588,13 +588,13 @@ def _past_free(
 
 
 def _fill_single_holes(
-    ranges: np.ndarray, source: np.ndarray, hole: np.ndarray, ring: bool
+    ranges: np.ndarray, source: np.ndarray, hole: np.ndarray, layout: BeamLayout
 ) -> np.ndarray:
     """Give beams that no remembered point landed on (``hole``: indices, ascending) their
     nearer neighbour's range and source (in place; ``ranges``: NaN where no point landed,
-    ``source``: per beam, the remembered beam whose values it carries on; ``ring``: the
-    beams cover a full turn, so beam 0 and the last are neighbours). Returns the beams
-    left without (indices): no point landed on them or beside them.
+    ``source``: per beam, the remembered beam whose values it carries on; on a ring, beam
+    0 and the last are neighbours). Returns the beams left without (indices): no point
+    landed on them or beside them.
 
     The two edges of a scan that covers less than a full turn are no neighbours: a turn
     that vacated the first beams had filled beam 0 with the view at the other edge of the
@@ -602,23 +602,17 @@ def _fill_single_holes(
     sees, stayed in the view as the turn carried it on (a 240-degree scanner turning in
     place: the wall at the edge 1 m in front of it, new, removed at score 1).
     """
-    n = len(ranges)
-    if hole.size == 0 or hole.size == n:
+    if hole.size == 0 or hole.size == layout.count:
         return hole
-    # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
-    # (gathers by take: cheaper than indexing with arrays this small)
-    left, right = hole - 1, hole + 1
-    if right[-1] == n:  # holes are ascending: only the last can be beam n - 1
-        right[-1] = 0
-    on_left, on_right = ranges.take(left), ranges.take(right)
-    if not ring:  # the edges of the field of view: no neighbour beyond them
-        if hole[0] == 0:
-            on_left[0] = np.nan
-        if hole[-1] == n - 1:
-            on_right[-1] = np.nan
+    # each hole's neighbours (holes, 2) and their ranges, in one gather each from the
+    # layout's table (off a ring, an edge beam's own NaN stands for the side beyond the
+    # field of view)
+    sides = layout.neighbours().take(hole, axis=0)
+    on_sides = ranges.take(sides)
+    on_left = on_sides[:, 0]
     # the nearer neighbour's range, the left one's on a tie (NaN only where both are NaN)
-    value = np.fmin(on_left, on_right)
-    neighbour = np.where(value == on_left, left, right)
+    value = np.fmin(on_left, on_sides[:, 1])
+    neighbour = np.where(value == on_left, sides[:, 0], sides[:, 1])
     known = value == value  # NaN (both neighbours unknown) compares False
     fill = indices(known)
     left_without = _NO_BEAMS
