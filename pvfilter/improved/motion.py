@@ -212,12 +212,15 @@ def estimate_motion(
     if rows.size < MIN_PAIRS:
         return prior
     angle = directions.take(rows)
-    normal_x, normal_y = np.negative(np.sin(angle)), np.cos(angle)
+    # the line normals (-sin, cos), their sign folded into the sums below (a float's
+    # negation is exact: x - (-y) is x + y), so no negated copy is made
+    sine, cosine = np.sin(angle), np.cos(angle)
     a, d = q.take(rows, axis=0), step.take(rows, axis=0)
     design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
-    np.subtract(normal_y * a[:, 0], normal_x * a[:, 1], out=design[:, 0])
-    design[:, 1], design[:, 2] = normal_x, normal_y
-    target = normal_x * d[:, 0] + normal_y * d[:, 1]
+    np.add(cosine * a[:, 0], sine * a[:, 1], out=design[:, 0])
+    np.negative(sine, out=design[:, 1])
+    design[:, 2] = cosine
+    target = cosine * d[:, 1] - sine * d[:, 0]
     weights = prior_weights(spread)
     expected_turn = prior.theta_rad - coarse.theta_rad  # the prior's change (turn only)
     solution = _solve(design, target, expected_turn, weights)
