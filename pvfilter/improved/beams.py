@@ -18,6 +18,19 @@ def indices(mask: np.ndarray) -> np.ndarray:
     return mask.nonzero()[0]
 
 
+def row_norms(points: np.ndarray) -> np.ndarray:
+    """Distance of each point of ``points`` (rows ``x, y``, m, ``(k, 2)``) from the origin, m.
+
+    The rows of a C-ordered float array are complex numbers ``x + iy`` in memory, and
+    numpy's complex absolute value is as accurate as ``np.hypot`` (within one unit in the
+    last place; neither overflows) at a third of its cost on a scan's points. Other
+    arrays (a column slice, another dtype) take ``np.hypot``.
+    """
+    if points.dtype == np.float64 and points.flags.c_contiguous:
+        return np.abs(points.view(np.complex128)).reshape(len(points))
+    return np.hypot(points[:, 0], points[:, 1])
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class BeamLayout:
     """Angles of a scan's beams and what every stage needs from them.
