@@ -454,7 +454,7 @@ class EgoMotion:
             ranges = match.ranges.copy()
             ranges[moving] = np.nan
         else:
-            ranges = np.hypot(reference[:, 0], reference[:, 1])
+            ranges = row_norms(reference)
         self.reference, self.reference_ranges = reference, ranges
         self.reference_all = every
         self.since_reference = STILL

@@ -216,7 +216,7 @@ class Segments:
         """Distance of each point from the sensor, m, ``(m,)`` (kept in ``memo``: the
         segmentation works it out, and the line stages ask for it again)."""
         if "ranges" not in self.memo:
-            self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
+            self.memo["ranges"] = row_norms(self.points)
         return self.memo["ranges"]
 
     @property
