@@ -204,19 +204,19 @@ def seam_claims(
         normal, centre = segments.normals[line], segments.centroids[line]
         if math.copysign(1.0, centre[0]) != down_side:
             continue
-        level = float(centre @ normal)
+        level = float(centre.dot(normal))  # (dot: @'s BLAS call, without its layers)
         outward = math.copysign(1.0, level)  # the normal, away from the sensor
         half = np.arange(bounds[other], bounds[other + 1])
         seam_end = half[-params.min_points :] if other == last else half[: params.min_points]
-        jump_m = median_of_few((segments.points.take(seam_end, axis=0) @ normal - level).tolist())
-        jump_m *= outward
+        seam_offsets_m = segments.points.take(seam_end, axis=0).dot(normal) - level
+        jump_m = median_of_few(seam_offsets_m.tolist()) * outward
         if abs(jump_m) <= params.extend_tolerance_m:  # on the line itself: the spread's
             continue
         if abs(jump_m) > _pitch_jump_bound(
             segments, line, other, tilt_rad, jump_m, time_increment, params
         ):
             continue
-        offset_m = (segments.points.take(half, axis=0) @ normal - level) * outward
+        offset_m = (segments.points.take(half, axis=0).dot(normal) - level) * outward
         tolerance = params.extend_tolerance_m + 0.01 * segments.ranges.take(half)
         on = np.abs(offset_m - jump_m) <= tolerance
         on &= _runs_along(segments.directions.take(half), normal[0], normal[1], params)
