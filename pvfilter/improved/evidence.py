@@ -284,8 +284,11 @@ class WorldStatic:
         if floor_shift_m is not None and self.travel_seen:
             # the sensor stood (a return's tolerance allows for its motion): a floor line
             # moves with the pitch, where the earlier scan saw a return (NaN compares False)
-            stood = math.hypot(since.tx_m, since.ty_m) <= twice
-            telling |= stood & (floor_shift_m > twice) & (earlier == earlier)
+            travel_m = math.hypot(since.tx_m, since.ty_m)
+            pitch_tells = (floor_shift_m > twice) & (earlier == earlier)
+            if travel_m > 2.0 * self.tolerance_m:  # (else it stood for every return)
+                pitch_tells &= travel_m <= twice
+            telling |= pitch_tells
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
         return Offsets(returns.ranges - (earlier + moved), telling, tolerance)
