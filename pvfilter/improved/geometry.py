@@ -164,13 +164,14 @@ def seen_beyond(
     x, y = segments.points[:, 0], segments.points[:, 1]
     ranges = segments.ranges
     centroids = segments.centroids.take(lines, axis=0)  # (cheaper than indexing rows)
-    side = np.sign(centroids[:, 0])  # (c,)
-    depth = np.abs(centroids[:, 0])  # the line's x, m
+    line_x = centroids[:, 0]  # m
+    side = np.sign(line_x)  # (c,)
+    depth = np.abs(line_x)  # the line's x, m
     line_tilt = np.maximum(tilt.take(lines), 1e-3)
     lean = math.sin(math.radians(params.max_roll_deg)) / np.tan(line_tilt)
-    beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
+    beyond = side[:, None] * x - depth[:, None]  # (c, m)
     beyond -= HORIZON_M + 0.02 * ranges
-    beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
+    beyond -= np.abs(y - centroids[:, 1:2]) * lean[:, None]
     past = beyond > 0.0  # returns beyond the line itself (few)
     if np.count_nonzero(past) < HORIZON_POINTS:  # (most scans: cheaper than a 2-D nonzero)
         return seen
