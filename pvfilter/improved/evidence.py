@@ -264,7 +264,8 @@ class WorldStatic:
         facing = layout.sin.take(beams) * cos_m - layout.cos.take(beams) * sin_m  # u . n
         ranges = self.ranges.take(beams)
         tolerance = self.tolerance_at(ranges)
-        return _Returns(beams, sin_m, cos_m, facing, np.abs(facing) > MIN_FACING, ranges, tolerance)
+        facing_ok = np.abs(facing) > MIN_FACING
+        return _Returns(beams, sin_m, cos_m, facing, facing_ok, ranges, tolerance, 2.0 * tolerance)
 
     def _offsets(self, returns: _Returns, floor_shift_m: np.ndarray | None) -> Offsets:
         """:meth:`offsets`, for this scan's returns on the beams asked about."""
@@ -278,8 +279,7 @@ class WorldStatic:
         # of an errstate to silence a division by zero
         moved = np.divide(toward, returns.facing, out=np.zeros(len(beams)), where=facing_ok)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
-        tolerance = returns.tolerance_m
-        twice = 2.0 * tolerance  # farther than this tells
+        tolerance, twice = returns.tolerance_m, returns.twice_m  # farther than twice tells
         telling = (np.abs(moved) > twice) & facing_ok
         if floor_shift_m is not None and self.travel_seen:
             # the sensor stood (a return's tolerance allows for its motion): a floor line
@@ -358,6 +358,7 @@ class _Returns(NamedTuple):
     facing_ok: np.ndarray  # bool: the beam faces its surface (|u . n| > MIN_FACING)
     ranges: np.ndarray  # this scan's range, m
     tolerance_m: np.ndarray  # how near its prediction a static return lies, m
+    twice_m: np.ndarray  # twice that: a motion along the beam beyond it tells, m
 
 
 class Earlier(NamedTuple):
