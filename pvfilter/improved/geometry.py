@@ -60,8 +60,10 @@ def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:
     ``R = hypot(d, h - axle)`` and ``phi = atan2(h - axle, d)``, ``p = phi + asin(axle / R)``.
     """
     arm = params.lidar_height_m - params.axle_height_m
-    reach = np.hypot(distance_m, arm)
-    ratio = np.minimum(params.axle_height_m / np.maximum(reach, 1e-9), 1.0)
+    reach = np.hypot(distance_m, arm)  # (at least |arm|)
+    if abs(arm) < 1e-9:
+        reach = np.maximum(reach, 1e-9)
+    ratio = np.minimum(params.axle_height_m / reach, 1.0)
     tilt = np.arctan2(arm, distance_m) + np.arcsin(ratio)
     return np.minimum(tilt, 0.5 * np.pi)
 

@@ -352,11 +352,7 @@ def score_segments(
         # a rotating scan measures its lines at different tilts: the floor side's strong
         # lines show how steep the plane got, and a ceiling can be that much nearer
         strong_down = gates & (side == down) & (new_counts >= params.down_side_min_new)
-        steepest = (
-            max(down_tilt, float(tilt[strong_down].max()))
-            if np.count_nonzero(strong_down)  # (any() without its Python layers)
-            else down_tilt
-        )
+        steepest = tilt.max(initial=down_tilt, where=strong_down)
         too_near = distances < ceiling_min_distance(steepest, params)
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
