@@ -216,8 +216,12 @@ def estimate_motion(
         return prior
     angle = directions.take(rows)
     # the line normals (-sin, cos), their sign folded into the sums below (a float's
-    # negation is exact: x - (-y) is x + y), so no negated copy is made
-    sine, cosine = np.sin(angle), np.cos(angle)
+    # negation is exact: x - (-y) is x + y), so no negated copy is made. The directions
+    # lie in (-pi/2, pi/2], where the cosine is sqrt(1 - sin^2): it errs by at most 1.5e-8
+    # (near +-pi/2, from the sine's rounding), a point-to-line row by 1.5e-7 m at 10 m, for
+    # half the cost of np.cos
+    sine = np.sin(angle)
+    cosine = np.sqrt(1.0 - sine * sine)
     a, d = q.take(rows, axis=0), step.take(rows, axis=0)
     design = np.empty((rows.size, 3))  # columns written in place (np.stack is slower)
     np.add(cosine * a[:, 0], sine * a[:, 1], out=design[:, 0])
