@@ -9,6 +9,7 @@ it in, so one score per point says at which thresholds it is removed.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -39,7 +40,7 @@ def extension_claims(
 
     Args:
         segments: the segments.
-        lines: the segments that may extend.
+        lines: the segments that may extend, ascending.
         params: ``extend_beams``, ``extend_tolerance_m``, ``break_distance_m``,
             ``min_points``.
     """
@@ -47,33 +48,32 @@ def extension_claims(
     if reach == 0 or lines.size == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     points, labels = segments.points, segments.labels
-    firsts = labels.searchsorted(lines)
-    lasts = labels.searchsorted(lines, side="right") - 1
-    # (2 * lines, reach) candidate points: before the first and after the last point
-    direction = OUTWARD.repeat(lines.size)
-    owner = np.concatenate((lines, lines))
-    ends = np.concatenate((firsts, lasts))
-    index = ends[:, None] + direction[:, None] * np.arange(1, reach + 1)
-    before = index - direction[:, None]
+    # (2, lines, reach) candidate points: before each line's first point, then after its
+    # last; the line's first point and the point after its last are its segment's bounds
+    ends = segments.bounds.take(np.concatenate((lines, lines + 1))).reshape(2, -1, 1)
+    beyond, previous = _outward_steps(reach)
+    index, before = ends + beyond, ends + previous
     # most lines end well inside the scan: every candidate (and the point before it) is a
-    # point, and nothing needs clipping; else as np.clip, without its Python layers
+    # point, and nothing needs clipping; else as np.clip, without its Python layers (the
+    # lines ascend, and so do their bounds: the first and last bound are the extremes)
     inside = None
-    if not (np.minimum.reduce(firsts) >= reach and np.maximum.reduce(lasts) < m - reach):
+    if not (ends[0, 0, 0] >= reach and ends[1, -1, 0] <= m - reach):
         inside = (index >= 0) & (index < m)
-        index = np.minimum(np.maximum(index, 0), m - 1)
-        before = index - direction[:, None]
+        np.minimum(np.maximum(index, 0, out=index), m - 1, out=index)
         np.minimum(np.maximum(before, 0, out=before), m - 1, out=before)
     candidate = points.take(index, axis=0)
     step = candidate - points.take(before, axis=0)
     ranges = segments.ranges.take(index)
-    # rows gathered by take: indexing rows with an index array costs several times more
-    normal, centre = segments.normals.take(owner, axis=0), segments.centroids.take(owner, axis=0)
-    off_line = _distance_to_line(candidate, centre[:, None, :], normal[:, None, :])
+    # rows gathered by take: indexing rows with an index array costs several times more;
+    # each line's centre and normal broadcast over both ends and every candidate
+    normal = segments.normals.take(lines, axis=0)[:, None, :]
+    centre = segments.centroids.take(lines, axis=0)[:, None, :]
+    off_line = _distance_to_line(candidate, centre, normal)
     on = off_line <= params.extend_tolerance_m + 0.01 * ranges
     if inside is not None:
         on &= inside
     on &= np.hypot(step[..., 0], step[..., 1]) <= params.break_distance_m + 0.02 * ranges
-    if not np.count_nonzero(on[:, 0]):  # the point next to each end is off: none joins
+    if not np.count_nonzero(on[..., 0]):  # the point next to each end is off: none joins
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
     # a point of another segment that lies nearer that segment's own line, by more than
     # the scatter of its points about it, is the wall the line runs into: at the corner
@@ -85,16 +85,35 @@ def extension_claims(
     )
     own_off = _distance_to_line(candidate, own_centre, own_normal)
     own_off += np.sqrt(segments.spread_across.take(own))
-    other = (own != owner[:, None]) & (segments.sizes.take(own) >= params.min_points)
+    other = (own != lines[:, None]) & (segments.sizes.take(own) >= params.min_points)
     on &= ~(other & (own_off < off_line))
-    joined = np.logical_and.accumulate(on, axis=1)  # up to the first point that is off
-    return index[joined], owner.repeat(np.add.reduce(joined, axis=1))  # joined per row
+    joined = np.logical_and.accumulate(on, axis=-1)  # up to the first point that is off
+    per_row = np.add.reduce(joined, axis=-1).ravel()  # joined per end, as index[joined]
+    return index[joined], np.concatenate((lines, lines)).repeat(per_row)
+
+
+@functools.cache
+def _outward_steps(reach: int) -> tuple[np.ndarray, np.ndarray]:
+    """Beam steps from a line's bounds (its first point, the point after its last) to its
+    ``reach`` candidates on each side and to the point before each, going outward,
+    ``(2, 1, reach)``: before the first point, then after the last."""
+    beyond = np.empty((2, 1, reach), dtype=np.intp)
+    beyond[0, 0] = -np.arange(1, reach + 1)
+    beyond[1, 0] = np.arange(reach)
+    previous = beyond - OUTWARD[:, None, None]
+    for steps in (beyond, previous):  # shared by every call: none may change them
+        steps.flags.writeable = False
+    return beyond, previous
 
 
 def _distance_to_line(points: np.ndarray, centres: np.ndarray, normals: np.ndarray) -> np.ndarray:
     """Distance of each point from the line through its centre with its unit normal, m
     (the last axis holds x and y; the others broadcast)."""
-    return np.abs(np.add.reduce((points - centres) * normals, axis=-1))
+    products = points - centres
+    products *= normals
+    # the two products added as np.add.reduce adds them, without its reduction set-up
+    distance = products[..., 0] + products[..., 1]
+    return np.abs(distance, out=distance)
 
 
 def spread_claims(
@@ -185,19 +204,19 @@ def seam_claims(
         normal, centre = segments.normals[line], segments.centroids[line]
         if math.copysign(1.0, centre[0]) != down_side:
             continue
-        level = float(centre @ normal)
+        level = float(centre.dot(normal))  # (dot: @'s BLAS call, without its layers)
         outward = math.copysign(1.0, level)  # the normal, away from the sensor
         half = np.arange(bounds[other], bounds[other + 1])
         seam_end = half[-params.min_points :] if other == last else half[: params.min_points]
-        jump_m = median_of_few((segments.points.take(seam_end, axis=0) @ normal - level).tolist())
-        jump_m *= outward
+        seam_offsets_m = segments.points.take(seam_end, axis=0).dot(normal) - level
+        jump_m = median_of_few(seam_offsets_m.tolist()) * outward
         if abs(jump_m) <= params.extend_tolerance_m:  # on the line itself: the spread's
             continue
         if abs(jump_m) > _pitch_jump_bound(
             segments, line, other, tilt_rad, jump_m, time_increment, params
         ):
             continue
-        offset_m = (segments.points.take(half, axis=0) @ normal - level) * outward
+        offset_m = (segments.points.take(half, axis=0).dot(normal) - level) * outward
         tolerance = params.extend_tolerance_m + 0.01 * segments.ranges.take(half)
         on = np.abs(offset_m - jump_m) <= tolerance
         on &= _runs_along(segments.directions.take(half), normal[0], normal[1], params)

@@ -140,15 +140,9 @@ def _corners(
         firsts, ends: the pieces, each of at least ``2 * min_points`` points.
         min_points: each line keeps at least this many points.
     """
-    tries = ends - firsts - 2 * min_points + 1  # cut points per piece
-    piece = np.repeat(np.arange(firsts.size), tries)
-    starts = np.cumsum(tries) - tries  # each piece's first try
-    cut = firsts.take(piece) + min_points + (np.arange(piece.size) - starts.take(piece))
-    n = cut.size
-    # the moments of the points before each cut, after it, and of each whole piece
-    upper = np.concatenate((cut, ends.take(piece), ends))
-    lower = np.concatenate((firsts.take(piece), cut, firsts))
-    residual, covariance = _line_residual(moments.take(upper, axis=1) - moments.take(lower, axis=1))
+    split, starts = _split_moments(moments, firsts, ends, min_points)
+    n = (split.shape[1] - firsts.size) // 2  # cut points tried, over every piece
+    residual, covariance = _line_residual(split)
     total = residual[:n] + residual[n : 2 * n]
     whole = residual[2 * n :]
     # each piece's best cut: the first of its least totals, as np.argmin takes (the tries
@@ -162,6 +156,9 @@ def _corners(
         none = np.empty(firsts.size, dtype=np.intp)
         none.fill(-1)  # (np.full costs a Python-level call)
         return none
+    tries = ends - firsts - 2 * min_points + 1  # cut points per piece
+    piece = np.repeat(np.arange(firsts.size), tries)
+    cut = firsts.take(piece) + min_points + (np.arange(n) - starts.take(piece))
     best_tries = indices(total == least.take(piece))
     of_piece = piece.take(best_tries)
     first_of_piece = np.empty(of_piece.size, dtype=bool)
@@ -174,6 +171,32 @@ def _corners(
     turn = np.abs(folded(direction[: best.size] - direction[best.size :]))
     corner_found = (turn > math.radians(CORNER_TURN_DEG)) & fits_better
     return np.where(corner_found, cut.take(best), -1)
+
+
+def _split_moments(
+    moments: np.ndarray, firsts: np.ndarray, ends: np.ndarray, min_points: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The summed moments of the points before every cut point of the pieces ``[first,
+    end)``, then after it (the cut points in piece order, each piece's ascending), then of
+    each whole piece, ``(6, 2 * cuts + pieces)``, and each piece's first cut's column.
+
+    Each piece's cut points are a run of columns of ``moments``: the sums before and after
+    them are two subtractions of that run, not gathers of every column (a scan has one
+    or two such pieces; the gathers and their index arithmetic cost more).
+    """
+    bounds = list(zip(firsts.tolist(), ends.tolist(), strict=True))
+    tries = [end - first - 2 * min_points + 1 for first, end in bounds]  # per piece
+    n = sum(tries)
+    split = np.empty((6, 2 * n + len(bounds)))
+    starts, start = np.empty(len(bounds), dtype=np.intp), 0
+    for i, ((first, end), count) in enumerate(zip(bounds, tries, strict=True)):
+        starts[i] = start
+        cuts = moments[:, first + min_points : first + min_points + count]
+        np.subtract(cuts, moments[:, first, None], out=split[:, start : start + count])
+        np.subtract(moments[:, end, None], cuts, out=split[:, n + start : n + start + count])
+        np.subtract(moments[:, end], moments[:, first], out=split[:, 2 * n + i])  # whole
+        start += count
+    return split, starts
 
 
 def _line_residual(

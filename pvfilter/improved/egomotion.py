@@ -44,7 +44,7 @@ import math
 
 import numpy as np
 
-from pvfilter.improved.beams import BeamLayout, indices
+from pvfilter.improved.beams import BeamLayout, indices, row_norms
 from pvfilter.improved.motion import (
     MIN_PAIRS,
     STILL,
@@ -217,7 +217,7 @@ class EgoMotion:
         turn = min(self.params.max_yaw_rate_rad_s * (dt + self.coasted_s), math.pi)
         max_shift = min(math.ceil(turn / layout.increment) + 1, layout.count // 4)
         level = unstretch(points, guess)
-        ranges = np.hypot(level[:, 0], level[:, 1])
+        ranges = row_norms(level)
         reference_ranges = self.reference_ranges
         first = min(max(round(expected.theta_rad / layout.increment), -max_shift), max_shift)
         shift = coarse_turn(ranges, reference_ranges, max_shift, layout, first)
@@ -454,7 +454,7 @@ class EgoMotion:
             ranges = match.ranges.copy()
             ranges[moving] = np.nan
         else:
-            ranges = np.hypot(reference[:, 0], reference[:, 1])
+            ranges = row_norms(reference)
         self.reference, self.reference_ranges = reference, ranges
         self.reference_all = every
         self.since_reference = STILL

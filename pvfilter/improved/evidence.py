@@ -49,12 +49,11 @@ def free_space_gaps(
     level view saw nothing, it saw free space up to ``range_max`` and no farther: a wall
     that comes into range is not new.
     """
-    unknown = np.isnan(level)
     # unknown and farther than range_max: range_max, before the window's minimum (the
     # least of values capped at range_max is the least of them, capped)
-    nearest = window_minimum(np.fmin(level, range_max), WINDOW_BEAMS, layout)
-    gaps = nearest - ranges
-    gaps[unknown] = np.nan
+    gaps = window_minimum(level, WINDOW_BEAMS, layout, range_max)
+    gaps -= ranges  # (in place: the window's minimum is a new array)
+    np.putmask(gaps, np.isnan(level), np.nan)  # (putmask: a boolean index costs more)
     return gaps
 
 
@@ -100,25 +99,29 @@ def free_space_evidence(
     return new, gaps < np.negative(margin, out=margin)
 
 
-def window_minimum(values: np.ndarray, half: int, layout: BeamLayout) -> np.ndarray:
-    """The least of ``values`` over beams ``i - half .. i + half`` (no NaN in ``values``).
+def window_minimum(
+    values: np.ndarray, half: int, layout: BeamLayout, cap: float = math.inf
+) -> np.ndarray:
+    """The least of ``values`` over beams ``i - half .. i + half``, each capped at ``cap``
+    first (NaN counts as ``cap``). A new array.
 
     As ``scipy.ndimage.minimum_filter1d`` (wrapping on a ring, else repeating the end
     values), but for the usual window of three beams two ``np.minimum`` calls on a padded
-    copy cost a fraction of scipy's set-up.
+    copy cost a fraction of scipy's set-up; the capped values are written into that copy
+    at once.
     """
     n = len(values)
     if half == 0 or n == 0:
-        return values
+        return np.fmin(values, cap)
     if half >= n or half > 4:
         mode = "wrap" if layout.ring else "nearest"
-        return minimum_filter1d(values, 2 * half + 1, mode=mode)
+        return minimum_filter1d(np.fmin(values, cap), 2 * half + 1, mode=mode)
     padded = np.empty(n + 2 * half)  # (filled by slices: cheaper than np.concatenate)
-    padded[half : n + half] = values
+    np.fmin(values, cap, out=padded[half : n + half])
     if layout.ring:
-        padded[:half], padded[n + half :] = values[n - half :], values[:half]
+        padded[:half], padded[n + half :] = padded[n : n + half], padded[half : 2 * half]
     else:
-        padded[:half], padded[n + half :] = values[0], values[n - 1]
+        padded[:half], padded[n + half :] = padded[half], padded[n + half - 1]
     least = np.minimum(padded[:n], padded[1 : n + 1])
     for offset in range(2, 2 * half + 1):
         np.minimum(least, padded[offset : offset + n], out=least)
@@ -227,6 +230,16 @@ class WorldStatic:
         ``tolerance_m`` plus 1 % of the range."""
         return self.tolerance_m + 0.01 * range_m
 
+    def _same_returns(self, other: WorldStatic) -> bool:
+        """This test and ``other`` start from the same returns (this scan's ranges and line
+        directions, the layout and the tolerance), as a test and its :attr:`farther` do."""
+        return (
+            self.ranges is other.ranges
+            and self.directions is other.directions
+            and self.layout is other.layout
+            and self.tolerance_m == other.tolerance_m
+        )
+
     def offsets(self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None) -> Offsets:
         """For ``beams``: how far each return lies from where a surface fixed in the world
         would lie, whether the test tells, and its tolerance (:class:`Offsets`).
@@ -238,29 +251,47 @@ class WorldStatic:
                 (:func:`standing_pitch_change`), m (None: the sensor's own motion alone
                 tells).
         """
-        layout, since = self.layout, self.since
-        shift = round(since.theta_rad / layout.increment)
+        return self._offsets(self._returns(beams), floor_shift_m)
+
+    def _returns(self, beams: np.ndarray) -> _Returns:
+        """This scan's returns on ``beams`` and their surfaces: what the test against any
+        earlier scan starts from."""
+        layout = self.layout
         angle = self.directions.take(beams)
-        normal_x, normal_y = -np.sin(angle), np.cos(angle)
-        facing = layout.cos.take(beams) * normal_x + layout.sin.take(beams) * normal_y
-        toward = since.tx_m * normal_x + since.ty_m * normal_y  # t . n
+        # the surface's normal is (-sin, cos) of its direction: the sine is kept unnegated,
+        # and the products with it subtracted (exactly the sums with the negated sine)
+        sin_m, cos_m = np.sin(angle), np.cos(angle)
+        facing = layout.sin.take(beams) * cos_m - layout.cos.take(beams) * sin_m  # u . n
+        ranges = self.ranges.take(beams)
+        tolerance = self.tolerance_at(ranges)
         facing_ok = np.abs(facing) > MIN_FACING
+        return _Returns(beams, sin_m, cos_m, facing, facing_ok, ranges, tolerance, 2.0 * tolerance)
+
+    def _offsets(self, returns: _Returns, floor_shift_m: np.ndarray | None) -> Offsets:
+        """:meth:`offsets`, for this scan's returns on the beams asked about."""
+        layout, since, beams = self.layout, self.since, returns.beams
+        shift = round(since.theta_rad / layout.increment)
+        toward = since.ty_m * returns.cos_m - since.tx_m * returns.sin_m  # t . n
+        facing_ok = returns.facing_ok
         # how far a static return moved along its beam, m, where the beam faces its surface;
         # 0 at grazing incidence, where the quotient divides by nearly 0 and means nothing
         # (there only the standing sensor's pitch test below tells), and without the cost
         # of an errstate to silence a division by zero
-        moved = np.divide(toward, facing, out=np.zeros(len(beams)), where=facing_ok)
+        moved = np.divide(toward, returns.facing, out=np.zeros(len(beams)), where=facing_ok)
         earlier = layout.shifted(self.previous_ranges, shift).take(beams)
-        ranges = self.ranges.take(beams)
-        tolerance = self.tolerance_at(ranges)
-        twice = 2.0 * tolerance  # farther than this tells
+        tolerance, twice = returns.tolerance_m, returns.twice_m  # farther than twice tells
         telling = (np.abs(moved) > twice) & facing_ok
-        if floor_shift_m is not None:  # the sensor stood: a floor line moves with the pitch
-            stood = self.travel_seen and math.hypot(since.tx_m, since.ty_m) <= twice
-            telling |= stood & (floor_shift_m > twice) & ~np.isnan(earlier)
+        if floor_shift_m is not None and self.travel_seen:
+            # the sensor stood (a return's tolerance allows for its motion): a floor line
+            # moves with the pitch, where the earlier scan saw a return (NaN compares False)
+            travel_m = math.hypot(since.tx_m, since.ty_m)
+            pitch_tells = (floor_shift_m > twice) & (earlier == earlier)
+            if travel_m > 2.0 * self.tolerance_m:  # (else it stood for every return)
+                pitch_tells &= travel_m <= twice
+            telling |= pitch_tells
         if shift != 0:  # the sensor turned: a surface fixed to it keeps its beam
             telling &= np.abs(earlier - self.previous_ranges.take(beams)) > twice
-        return Offsets(ranges - (earlier + moved), telling, tolerance)
+        return Offsets(returns.ranges - (earlier + moved), telling, tolerance)
 
     def offsets_or_farther(
         self, beams: np.ndarray, floor_shift_m: np.ndarray | None = None
@@ -279,12 +310,16 @@ class WorldStatic:
         older scan must have seen a return on the beam; where it saw free space there, the
         wall is still told by neither.
         """
-        offsets = self.offsets(beams, floor_shift_m)
+        returns = self._returns(beams)
+        offsets = self._offsets(returns, floor_shift_m)
         # (where the baseline's scan saw no return on the beam it tells nothing either)
         untold = ~(offsets.telling & offsets.seen)
-        if self.farther is None or not np.count_nonzero(untold):
+        farther = self.farther
+        if farther is None or not np.count_nonzero(untold):
             return offsets
-        older = self.farther.offsets(beams)
+        if not farther._same_returns(self):  # (else this scan's returns are its own too)
+            returns = farther._returns(beams)
+        older = farther._offsets(returns, None)
         use = older.telling & older.seen & untold
         if not np.count_nonzero(use):
             return offsets
@@ -309,6 +344,21 @@ class Offsets(NamedTuple):
     def seen(self) -> np.ndarray:
         """bool: the earlier scan saw a return on the beam (and this one has one)."""
         return self.world_m == self.world_m  # NaN compares False
+
+
+class _Returns(NamedTuple):
+    """This scan's returns on the beams asked about (:meth:`WorldStatic.offsets`) and the
+    surfaces through them, the same against every earlier scan: worked out once where
+    two are asked (:meth:`WorldStatic.offsets_or_farther`)."""
+
+    beams: np.ndarray  # the beams asked about
+    sin_m: np.ndarray  # sine of the local line direction (the normal is (-sin, cos))
+    cos_m: np.ndarray  # its cosine
+    facing: np.ndarray  # cosine between the beam and the normal (u . n)
+    facing_ok: np.ndarray  # bool: the beam faces its surface (|u . n| > MIN_FACING)
+    ranges: np.ndarray  # this scan's range, m
+    tolerance_m: np.ndarray  # how near its prediction a static return lies, m
+    twice_m: np.ndarray  # twice that: a motion along the beam beyond it tells, m
 
 
 class Earlier(NamedTuple):

@@ -31,7 +31,7 @@ from pvfilter.improved.anchor import (
     register_view,
     within_margin,
 )
-from pvfilter.improved.beams import BeamLayout, indices
+from pvfilter.improved.beams import BeamLayout, indices, row_norms
 from pvfilter.improved.body import BodyBeams
 from pvfilter.improved.detection import LineDetection, detect_lines
 from pvfilter.improved.doubt import WEAK_ROWS, ViewDoubt
@@ -364,7 +364,7 @@ class ImprovedPitchVariationFilter:
         # the world while the sensor moved
         level_ranges = match.ranges
         if level_ranges is None:
-            level_ranges = np.hypot(*unstretch(prepared.mid_points, match.tilt_rad).T)
+            level_ranges = row_norms(unstretch(prepared.mid_points, match.tilt_rad))
         # travel the scans may not have seen can leave the view off along x beyond the
         # re-anchoring's reach, unless the wheels measured it or the IMU shows the plane
         # tilted (a floor line then lies where a search would put a wall)

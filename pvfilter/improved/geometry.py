@@ -60,8 +60,10 @@ def implied_tilt(distance_m: np.ndarray, params: ImprovedParams) -> np.ndarray:
     ``R = hypot(d, h - axle)`` and ``phi = atan2(h - axle, d)``, ``p = phi + asin(axle / R)``.
     """
     arm = params.lidar_height_m - params.axle_height_m
-    reach = np.hypot(distance_m, arm)
-    ratio = np.minimum(params.axle_height_m / np.maximum(reach, 1e-9), 1.0)
+    reach = np.hypot(distance_m, arm)  # (at least |arm|)
+    if abs(arm) < 1e-9:
+        reach = np.maximum(reach, 1e-9)
+    ratio = np.minimum(params.axle_height_m / reach, 1.0)
     tilt = np.arctan2(arm, distance_m) + np.arcsin(ratio)
     return np.minimum(tilt, 0.5 * np.pi)
 
@@ -85,7 +87,9 @@ def floor_shift(
     """
     tilt = np.maximum(np.abs(tilt_rad), 1e-3)
     arm = params.lidar_height_m - params.axle_height_m
-    slope = arm + params.scanner_height_m(tilt) * np.cos(tilt) / np.sin(tilt) ** 2
+    cos_tilt = np.cos(tilt)
+    height = params.axle_height_m + arm * cos_tilt  # params.scanner_height_m, its cosine kept
+    slope = arm + height * cos_tilt / np.sin(tilt) ** 2
     return slope * np.abs(change_rad)
 
 
@@ -125,10 +129,11 @@ def lean_ok(
     """
     tan_tilt = np.tan(np.maximum(tilt, 1e-6))
     roll_term = math.sin(math.radians(params.max_roll_deg)) / tan_tilt  # as np.sin, np.radians
-    length = np.sqrt(12.0 * np.maximum(spread_along, 1e-12))
+    along_m2 = np.maximum(spread_along, 1e-12)  # (no zero to divide by)
+    length = np.sqrt(12.0 * along_m2)
     bend = distance / tan_tilt * params.max_pitch_rate_rad_s * time_span_s / length
     bound = np.arctan(roll_term + bend)
-    sigma = np.sqrt(spread_across / (np.maximum(sizes, 1) * np.maximum(spread_along, 1e-12)))
+    sigma = np.sqrt(spread_across / (np.maximum(sizes, 1) * along_m2))
     return np.arcsin(np.minimum(sin_lean, 1.0)) <= bound + LEAN_SIGMAS * sigma
 
 
@@ -161,16 +166,18 @@ def seen_beyond(
     x, y = segments.points[:, 0], segments.points[:, 1]
     ranges = segments.ranges
     centroids = segments.centroids.take(lines, axis=0)  # (cheaper than indexing rows)
-    side = np.sign(centroids[:, 0])  # (c,)
-    depth = np.abs(centroids[:, 0])  # the line's x, m
+    line_x = centroids[:, 0]  # m
+    side = np.sign(line_x)  # (c,)
+    depth = np.abs(line_x)  # the line's x, m
     line_tilt = np.maximum(tilt.take(lines), 1e-3)
     lean = math.sin(math.radians(params.max_roll_deg)) / np.tan(line_tilt)
-    beyond = side[:, None] * x[None, :] - depth[:, None]  # (c, m)
+    beyond = side[:, None] * x - depth[:, None]  # (c, m)
     beyond -= HORIZON_M + 0.02 * ranges
-    beyond -= np.abs(y[None, :] - centroids[:, 1:2]) * lean[:, None]
-    line, point = np.nonzero(beyond > 0.0)  # returns beyond the line itself (few)
-    if line.size < HORIZON_POINTS:
+    beyond -= np.abs(y - centroids[:, 1:2]) * lean[:, None]
+    past = beyond > 0.0  # returns beyond the line itself (few)
+    if np.count_nonzero(past) < HORIZON_POINTS:  # (most scans: cheaper than a 2-D nonzero)
         return seen
+    line, point = np.nonzero(past)
     # time between each such return's beam and its line's middle beam, s
     middle = (
         np.bincount(segments.labels, segments.beams, len(segments))[lines] / segments.sizes[lines]

@@ -106,24 +106,44 @@ class LevelView:
 
     Attributes:
         ranges: m; NaN unknown, ``+inf`` free up to ``range_max``.
-        ages: s since a level return last confirmed the beam.
-        ahead_s: s for which the beam's returns have been in front of the view.
-        farther_s: s for which the beam's level returns have been beyond the view.
-        dropped_m: how far in front of the view stood the surface it gave up when space
-            seen free beyond it joined, m (NaN: none).
-        dropped_s: s since it gave that surface up.
+        carried: the values each beam carries along besides its range, one row each
+            (``ages``, ``ahead_s``, ``farther_s``, ``dropped_s``, ``dropped_m``), ``(5,
+            count)``: moving the view gathers them in one take, and a scan advances the
+            four clocks in one add.
         free_m: per free beam (``ranges`` ``+inf``), how far the space along it is known
             free, m: ``range_max`` where a level scan last saw no echo there, less as the
             sensor comes closer (NaN elsewhere; None: ``range_max`` on every free beam).
     """
 
     ranges: np.ndarray
-    ages: np.ndarray
-    ahead_s: np.ndarray
-    farther_s: np.ndarray
-    dropped_m: np.ndarray
-    dropped_s: np.ndarray
+    carried: np.ndarray
     free_m: np.ndarray | None = None
+
+    @property
+    def ages(self) -> np.ndarray:
+        """s since a level return last confirmed the beam."""
+        return self.carried[0]
+
+    @property
+    def ahead_s(self) -> np.ndarray:
+        """s for which the beam's returns have been in front of the view."""
+        return self.carried[1]
+
+    @property
+    def farther_s(self) -> np.ndarray:
+        """s for which the beam's level returns have been beyond the view."""
+        return self.carried[2]
+
+    @property
+    def dropped_s(self) -> np.ndarray:
+        """s since the view gave up the surface of :attr:`dropped_m`."""
+        return self.carried[3]
+
+    @property
+    def dropped_m(self) -> np.ndarray:
+        """How far in front of the view stood the surface it gave up when space seen free
+        beyond it joined, m (NaN: none)."""
+        return self.carried[4]
 
     def known_free_m(self) -> np.ndarray:
         """Per beam, where the view lies for new returns, m: its surface, or on a free
@@ -150,11 +170,10 @@ class LevelView:
     @classmethod
     def seen(cls, ranges: np.ndarray, ages: np.ndarray) -> LevelView:
         """A view of ``ranges`` with ``ages``, its clocks at 0, no surface given up."""
-        n = len(ranges)
-        dropped_m, dropped_s = np.empty(n), np.empty(n)  # np.full: a Python-level call each
-        dropped_m.fill(np.nan)
-        dropped_s.fill(np.inf)
-        return cls(ranges, ages, np.zeros(n), np.zeros(n), dropped_m, dropped_s)
+        carried = np.empty((len(_NOTHING), len(ranges)))
+        carried[:] = _NOTHING
+        carried[0] = ages
+        return cls(ranges, carried)
 
 
 class LevelMemory:
@@ -199,7 +218,9 @@ class LevelMemory:
         # free space is a point where it is known free to, an unknown beam (fmin ignores
         # NaN) one at range_max: every beam has a point to move (range_max is finite), so
         # no beam is left out
-        remembered = np.fmin(state.known_free_m(), range_max)
+        remembered = np.fmin(state.ranges, range_max)
+        if state.free_m is not None:  # (state.known_free_m(), without its own array)
+            np.fmin(remembered, state.free_m, out=remembered)
         before_x, before_y = remembered * layout.cos, remembered * layout.sin
         x, y = move_xy(
             before_x,
@@ -210,7 +231,7 @@ class LevelMemory:
             (self.time_increment, self.velocity),
             (time_increment, velocity),
         )
-        ranges = np.hypot(x, y)
+        ranges = np.sqrt(x * x + y * y)  # (np.hypot costs twice as much; no overflow in m)
         beams = layout.beam_at(x, y)
         # the moved points, by their beams; each beam's nearest range is its view already,
         # but points the sensor passed were no surfaces it could meet and are left out (a
@@ -225,21 +246,20 @@ class LevelMemory:
         too_near = _passed_near(before_x, before_y, x, y, ranges, travel_m + nearest_m, nearest_m)
         if too_near is not None:  # (mostly none)
             kept = indices(~too_near)
-            order, nearest = nearest_by_beam(beams.take(kept), ranges.take(kept), layout)
+            order, nearest, holes = nearest_by_beam(beams.take(kept), ranges.take(kept), layout)
             order = kept.take(order)
         else:
-            order, nearest = nearest_by_beam(beams, ranges, layout)
+            order, nearest, holes = nearest_by_beam(beams, ranges, layout)
         # per beam, the remembered beam whose values it carries on (-1: none); worked out
         # first, so that each of the values a beam carries is gathered once
         source = np.empty(layout.count, dtype=np.intp)
         source.fill(-1)  # (np.full costs a Python-level call)
         source[beams.take(order)] = order
-        _fill_single_holes(nearest, source, layout.ring)
-        view = LevelView(nearest, *(values.take(source) for values in _carried(state)))
-        unseen = indices(source < 0)  # (mostly none: on a full turn, double holes only)
-        if unseen.size:  # no point landed there or beside it: the view knows nothing
-            for values, nothing in zip(_carried(view), _NOTHING, strict=True):
-                values[unseen] = nothing
+        unseen = _fill_single_holes(nearest, source, holes, layout)
+        view = LevelView(nearest, state.carried.take(source, axis=1))
+        # no point landed on the unseen beams or beside them: the view knows nothing there
+        if unseen.size:  # (mostly none: on a full turn, double holes only)
+            view.carried[:, unseen] = _NOTHING
         # free space stays free where a beam was carried from a free one (as a surface,
         # the moved point that bounds it would put every wall coming into view in front
         # of it; a beam no point landed on, source -1, takes the last beam's here, and its
@@ -251,8 +271,9 @@ class LevelMemory:
         if np.count_nonzero(carried_free):
             free_m = np.where(carried_free, view.ranges, np.nan)
             view.ranges[carried_free] = np.inf
-        view.ranges[view.ranges >= range_max - 1e-6] = np.inf
-        view.ranges[view.ages > params.memory_timeout_s] = np.nan
+        # (putmask: a boolean index costs a third more)
+        np.putmask(view.ranges, view.ranges >= range_max - 1e-6, np.inf)
+        np.putmask(view.ranges, view.ages > params.memory_timeout_s, np.nan)
         if no_echo is not None and returned is not None:
             _forget_carried_silence(view, state.ranges, source, no_echo, returned)
         if free_m is not None:
@@ -269,8 +290,7 @@ class LevelMemory:
             return
         # (in place: the state is this memory's own; view() builds new arrays from it)
         forget = indices(beams)
-        for values, nothing in zip(_carried(state), _NOTHING, strict=True):
-            values[forget] = nothing
+        state.carried[:, forget] = _NOTHING
         state.ranges[forget] = np.nan
         if state.free_m is not None:
             state.free_m[forget] = np.nan
@@ -341,7 +361,12 @@ class LevelMemory:
             np.subtract(current, creep, out=floor, where=across)
         if hold is not None and np.count_nonzero(hold):  # (most scans hold nowhere)
             np.copyto(floor, current, where=hold)
-        dropped_m, dropped_s = view.dropped_m.copy(), view.dropped_s + dt
+        # the four clocks run on by dt (a tilted scan puts back the two that stand still
+        # in it), the surfaces given up are kept: one add over all five rows, the last
+        # then put back, costs less than an add into four of them
+        carried = view.carried + dt
+        carried[4] = view.carried[4]
+        ages, ahead, farther, dropped_s, dropped_m = carried
         if level and back is not None and np.count_nonzero(back):  # taken back at once
             floor[back] = -np.inf
             dropped_m[back] = np.nan
@@ -349,13 +374,13 @@ class LevelMemory:
         in_front = ranges < floor  # NaN (invalid) compares False
         if past_free.size:
             in_front[past_free] = False
-        # in front of the view this long: the clocks are finite and >= 0 (sums of time
-        # steps), so times True or False is np.where(in_front, ahead_s + dt, 0.0), cheaper
-        ahead = view.ahead_s + dt
-        # in a level scan a beam without an echo says nothing of what stands in front of
-        # the view (a dark wall echoes on some scans only): its clock runs on if it ran,
-        # and a return settles the view only when there is one (in a tilted scan the
-        # floor line moves with the pitch: where it went silent, it has moved on)
+        # in front of the view this long (ahead: ahead_s + dt): the clocks are finite and
+        # >= 0 (sums of time steps), so times True or False is np.where(in_front, ahead_s +
+        # dt, 0.0), cheaper. In a level scan a beam without an echo says nothing of what
+        # stands in front of the view (a dark wall echoes on some scans only): its clock
+        # runs on if it ran, and a return settles the view only when there is one (in a
+        # tilted scan the floor line moves with the pitch: where it went silent, it has
+        # moved on)
         ahead *= in_front | (no_return & (view.ahead_s > 0.0)) if level else in_front
         settling = (ahead > params.max_event_s) & in_front
         if travelling is not None:  # (a floor line held past an event's length: not yet)
@@ -370,12 +395,14 @@ class LevelMemory:
                 if free_m is not None:  # (no longer free there)
                     free_m = free_m.copy()
                     free_m[settled] = np.nan
-            self.state = LevelView(
-                current, view.ages, ahead, view.farther_s, dropped_m, dropped_s, free_m
-            )
+            carried[0], carried[2] = view.ages, view.farther_s
+            self.state = LevelView(current, carried, free_m)
             return
-        margin = params.free_margin_m + params.free_margin_rel * np.fmin(ranges, 1e9)
-        beyond = ranges > current + margin
+        # free_margin_m + free_margin_rel * ranges (finite), then the view plus it, in place
+        margin = np.fmin(ranges, 1e9)
+        margin *= params.free_margin_rel
+        margin += params.free_margin_m
+        beyond = ranges > np.add(current, margin, out=margin)
         if past_free.size:
             beyond[past_free] = True
         silent = no_return & (current != np.inf)
@@ -399,7 +426,6 @@ class LevelMemory:
             freed[1:] &= measured[:-1]
             freed[:-1] &= measured[1:]
             beyond |= freed
-        farther = view.farther_s + dt
         farther *= beyond  # np.where(beyond, farther_s + dt, 0.0), as for ahead
         unknown = np.isnan(current)
         take = beyond & ((farther >= params.confirm_free_s) | unknown)
@@ -412,7 +438,7 @@ class LevelMemory:
                 dropped_m[gave_up] = ranges.take(gave_up) - current.take(gave_up)
                 dropped_s[gave_up] = 0.0
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
-        np.fmax(ranges, floor, out=current, where=valid & ~beyond)
+        np.fmax(ranges, floor, out=current, where=valid > beyond)  # (valid & ~beyond)
         if settled.size:
             current[settled] = ranges.take(settled)
         if taken:  # space seen free long enough joins the view (beyond it: none of the
@@ -420,11 +446,10 @@ class LevelMemory:
             np.copyto(current, ranges, where=valid & take)
             current[no_return & take] = np.inf
             farther[take] = 0.0
-        ages = view.ages + dt
         confirmed = measured  # a lost echo confirms nothing
         if lost is not None:
             confirmed &= ~lost
-        ages[confirmed] = 0.0
+        np.putmask(ages, confirmed, 0.0)  # (a boolean index costs a third more)
         # free where the view is free; as far as range_max where this scan saw no echo
         free = current == np.inf
         free_m = None  # (no beam free: nothing to bound)
@@ -432,7 +457,7 @@ class LevelMemory:
             free_m = np.full(len(current), np.nan) if view.free_m is None else view.free_m.copy()
             free_m[~free] = np.nan
             free_m[no_return & free] = range_max
-        self.state = LevelView(current, ages, ahead, farther, dropped_m, dropped_s, free_m)
+        self.state = LevelView(current, carried, free_m)
 
 
 def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> np.ndarray:
@@ -450,9 +475,10 @@ def nearest_first(beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout) -> 
 
 def nearest_by_beam(
     beams: np.ndarray, ranges: np.ndarray, layout: BeamLayout
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`nearest_first`, and per beam the range of its nearest point (NaN: no point
-    lands on it): the very ranges that order writes (ties have equal ranges)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`nearest_first`, per beam the range of its nearest point (NaN: no point
+    lands on it): the very ranges that order writes (ties have equal ranges), and the
+    beams no point lands on (indices, ascending)."""
     nearest = np.empty(layout.count)
     nearest.fill(np.nan)  # no point yet: fmin takes any range over NaN
     if layout.ring:  # on a ring every point lands on a beam
@@ -463,12 +489,13 @@ def nearest_by_beam(
         inside_beams = beams.take(inside)
         np.fmin.at(nearest, inside_beams, ranges.take(inside))
         order = inside.take(indices(ranges.take(inside) == nearest.take(inside_beams)))
-    if order.size == np.count_nonzero(nearest == nearest):  # one nearest point per beam
-        return order, nearest
+    holes = indices(np.isnan(nearest))
+    if order.size == layout.count - holes.size:  # one nearest point per beam
+        return order, nearest, holes
     order = np.argsort(-ranges)
     if not layout.ring:
         order = order[beams[order] >= 0]
-    return order, nearest
+    return order, nearest, holes
 
 
 def _passed_near(
@@ -528,13 +555,14 @@ def _forget_carried_silence(
     """
     # per remembered beam: free (or unknown, which a silent scan confirmed and the move
     # makes free space too) and silent now; +inf and NaN both fail "< inf"
-    from_silence = no_echo & ~(remembered < np.inf)
+    from_silence = no_echo > (remembered < np.inf)  # (no_echo & ~..., in one operation)
+    if not np.count_nonzero(from_silence):  # (a closed room: no silence to carry)
+        return
     carried = returned & from_silence.take(source)
     if not np.count_nonzero(carried):  # (most scans: no turn, or no silence to carry)
         return
     forget = indices(carried)
-    for values, nothing in zip(_carried(view), _NOTHING, strict=True):
-        values[forget] = nothing
+    view.carried[:, forget] = _NOTHING
     view.ranges[forget] = np.nan
 
 
@@ -559,11 +587,14 @@ def _past_free(
     return returned.take(indices(at >= bound - margin))
 
 
-def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> None:
-    """Give beams that no remembered point landed on their nearer neighbour's range and
-    source (in place; ``ranges``: NaN where no point landed, ``source``: per beam, the
-    remembered beam whose values it carries on; ``ring``: the beams cover a full turn, so
-    beam 0 and the last are neighbours).
+def _fill_single_holes(
+    ranges: np.ndarray, source: np.ndarray, hole: np.ndarray, layout: BeamLayout
+) -> np.ndarray:
+    """Give beams that no remembered point landed on (``hole``: indices, ascending) their
+    nearer neighbour's range and source (in place; ``ranges``: NaN where no point landed,
+    ``source``: per beam, the remembered beam whose values it carries on; on a ring, beam
+    0 and the last are neighbours). Returns the beams left without (indices): no point
+    landed on them or beside them.
 
     The two edges of a scan that covers less than a full turn are no neighbours: a turn
     that vacated the first beams had filled beam 0 with the view at the other edge of the
@@ -571,36 +602,33 @@ def _fill_single_holes(ranges: np.ndarray, source: np.ndarray, ring: bool) -> No
     sees, stayed in the view as the turn carried it on (a 240-degree scanner turning in
     place: the wall at the edge 1 m in front of it, new, removed at score 1).
     """
-    hole = indices(np.isnan(ranges))
-    n = len(ranges)
-    if hole.size == 0 or hole.size == n:
-        return
-    # neighbours on the ring; hole - 1 = -1 indexes the last beam as (hole - 1) % n does
-    # (gathers by take: cheaper than indexing with arrays this small)
-    left, right = hole - 1, hole + 1
-    if right[-1] == n:  # holes are ascending: only the last can be beam n - 1
-        right[-1] = 0
-    on_left, on_right = ranges.take(left), ranges.take(right)
-    if not ring:  # the edges of the field of view: no neighbour beyond them
-        if hole[0] == 0:
-            on_left[0] = np.nan
-        if hole[-1] == n - 1:
-            on_right[-1] = np.nan
+    if hole.size == 0 or hole.size == layout.count:
+        return hole
+    # each hole's neighbours (holes, 2) and their ranges, in one gather each from the
+    # layout's table (off a ring, an edge beam's own NaN stands for the side beyond the
+    # field of view)
+    sides = layout.neighbours().take(hole, axis=0)
+    on_sides = ranges.take(sides)
+    on_left = on_sides[:, 0]
     # the nearer neighbour's range, the left one's on a tie (NaN only where both are NaN)
-    value = np.fmin(on_left, on_right)
-    neighbour = np.where(value == on_left, left, right)
-    fill = indices(value == value)  # NaN (both neighbours unknown) compares False
+    value = np.fmin(on_left, on_sides[:, 1])
+    neighbour = np.where(value == on_left, sides[:, 0], sides[:, 1])
+    known = value == value  # NaN (both neighbours unknown) compares False
+    fill = indices(known)
+    left_without = _NO_BEAMS
     if fill.size < hole.size:
+        left_without = hole.take(indices(~known))
         hole, neighbour, value = hole.take(fill), neighbour.take(fill), value.take(fill)
     ranges[hole] = value
     source[hole] = source.take(neighbour)
+    return left_without
 
 
-def _carried(view: LevelView) -> tuple[np.ndarray, ...]:
-    """The per-beam values a beam's view carries along besides its range."""
-    return view.ages, view.ahead_s, view.farther_s, view.dropped_m, view.dropped_s
+_NO_BEAMS = np.empty(0, dtype=np.intp)  # (not to be changed)
+_NO_BEAMS.flags.writeable = False
 
-
-# the values of :func:`_carried` where the view knows nothing (as :meth:`LevelView.seen`
-# with an infinite age): never confirmed, no clock running, no surface given up
-_NOTHING = (np.inf, 0.0, 0.0, np.nan, np.inf)
+# the values of :attr:`LevelView.carried` where the view knows nothing (as
+# :meth:`LevelView.seen` with an infinite age): never confirmed, no clock running, no
+# surface given up; a column, to write into the rows at once
+_NOTHING = np.array([[np.inf], [0.0], [0.0], [np.inf], [np.nan]])
+_NOTHING.flags.writeable = False

@@ -294,7 +294,9 @@ def score_segments(
     own_new = new_counts  # (before the pieces of a cut line count theirs together)
     new_counts = _pooled_new_counts(segments, gates, new_counts, new_valid, params)
     new_counts = np.maximum(new_counts, _echo_filled_counts(segments, own_new))
-    new_counts = np.maximum(new_counts, _long_line_counts(segments, gates, own_new, params))
+    long_counts = _long_line_counts(segments, gates, own_new, params)
+    if long_counts is not None:
+        new_counts = np.maximum(new_counts, long_counts)
     if params.line_length_m > 0.0:  # a floor line spans the open space: a short one scores less
         strong = gates & (new_counts >= params.down_side_min_new)
         score *= _length_shares(segments, strong, params)
@@ -350,11 +352,7 @@ def score_segments(
         # a rotating scan measures its lines at different tilts: the floor side's strong
         # lines show how steep the plane got, and a ceiling can be that much nearer
         strong_down = gates & (side == down) & (new_counts >= params.down_side_min_new)
-        steepest = (
-            max(down_tilt, float(tilt[strong_down].max()))
-            if np.count_nonzero(strong_down)  # (any() without its Python layers)
-            else down_tilt
-        )
+        steepest = tilt.max(initial=down_tilt, where=strong_down)
         too_near = distances < ceiling_min_distance(steepest, params)
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan
@@ -441,18 +439,21 @@ def _echo_filled_counts(segments: Segments, new_counts: np.ndarray) -> np.ndarra
 
 def _long_line_counts(
     segments: Segments, gates: np.ndarray, new_counts: np.ndarray, params: ImprovedParams
-) -> np.ndarray:
+) -> np.ndarray | None:
     """Per gated segment, the new points its new length is worth: ``down_side_min_new``
     for each ``STRONG_LINE_M`` of its line that its new points span (its length times its
     share of new points); 0 where that is shorter than ``STRONG_LINE_M``, or where it
     spans more than ``MAX_ECHO_FILL`` times its returns in beams (a few returns strewn
-    over silent beams are no line, however long their spread).
+    over silent beams are no line, however long their spread). None where no gated
+    segment's new points span ``STRONG_LINE_M`` (most line scans): all would be 0.
 
     The count a strong line needs is an arc of the sweep: a floor line far out spans few
     beams however long it is. Its length is that of a line of evenly spaced points with
     the segment's spread along it (``sqrt(12 var)``)."""
     new_length = segments.lengths * np.minimum(new_counts / np.maximum(segments.sizes, 1), 1.0)
     long_line = gates & (new_length >= STRONG_LINE_M)
+    if not np.count_nonzero(long_line):
+        return None
     long_line &= segments.beam_spans <= MAX_ECHO_FILL * segments.sizes
     return np.where(long_line, params.down_side_min_new * new_length / STRONG_LINE_M, 0.0)
 

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from pvfilter.improved.beams import indices
+from pvfilter.improved.beams import indices, row_norms
 from pvfilter.improved.params import ImprovedParams
 
 MIN_HALF_WIDTH = 3  # beams: the chord spans at least this many neighbours on each side
@@ -216,7 +216,7 @@ class Segments:
         """Distance of each point from the sensor, m, ``(m,)`` (kept in ``memo``: the
         segmentation works it out, and the line stages ask for it again)."""
         if "ranges" not in self.memo:
-            self.memo["ranges"] = np.hypot(self.points[:, 0], self.points[:, 1])
+            self.memo["ranges"] = row_norms(self.points)
         return self.memo["ranges"]
 
     @property
@@ -360,9 +360,8 @@ def segment_scan(
     if m == 0:
         empty = np.zeros(0, dtype=np.intp)
         return Segments(beams, points, empty, np.zeros(0), np.zeros(0, bool), empty)
-    ranges = np.hypot(points[:, 0], points[:, 1])
-    step = points[1:] - points[:-1]
-    gap = np.hypot(step[:, 0], step[:, 1])
+    ranges = row_norms(points)
+    gap = row_norms(points[1:] - points[:-1])
     jumps = gap > break_distances(ranges[1:], beams, increment, params.break_distance_m, no_echo)
     half_widths = chord_half_widths(ranges, increment, params.chord_m)
     directions = _chord_directions(points, half_widths, jumps.nonzero()[0] + 1)

@@ -13,6 +13,7 @@ plane sees it.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -139,7 +140,8 @@ def move_xy(
     temporary would be thrown away (``a + b`` and ``b + a`` are the same float).
     """
     (increment_before, velocity_before), (increment_after, velocity_after) = before, after
-    if beams is layout.every_beam():  # (the level view moves every beam)
+    every = beams is layout.every_beam()  # (the level view moves every beam)
+    if every:
         tau = layout.mid_scan_times(increment_before)  # s
     else:
         tau = layout.mid_scan_offsets().take(beams)
@@ -147,9 +149,9 @@ def move_xy(
     # the point lands about theta / increment beams away from where it was seen (on a ring,
     # past the seam it is seen a scan period earlier or later)
     turn_beams = motion.theta_rad / layout.increment
-    landing = beams + turn_beams
+    landing = (_beam_numbers(layout.count) if every else beams) + turn_beams
     if layout.ring:
-        _wrap_once(landing, turn_beams, layout.count, beams is layout.every_beam())
+        _wrap_once(landing, turn_beams, layout.count, every)
     else:
         np.clip(landing, 0.0, layout.count - 1.0, out=landing)
     landing -= 0.5 * (layout.count - 1)
@@ -179,6 +181,16 @@ def move_xy(
     shift += motion.ty_m
     moved_y += shift
     return moved_x, moved_y
+
+
+@functools.cache
+def _beam_numbers(count: int) -> np.ndarray:
+    """The beam indices ``0 .. count - 1`` as floats (not to be changed): the same sums
+    with a turn as the integer indices give, without converting them on every scan (half
+    the cost of the addition)."""
+    numbers = np.arange(count, dtype=float)
+    numbers.flags.writeable = False
+    return numbers
 
 
 def _wrap_once(landing: np.ndarray, turn_beams: float, count: int, ascending: bool = False) -> None:

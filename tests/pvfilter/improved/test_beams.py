@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pvfilter import Scan
-from pvfilter.improved.beams import FIT_TOLERANCE_BEAMS, BeamLayout
+from pvfilter.improved.beams import FIT_TOLERANCE_BEAMS, BeamLayout, row_norms
 
 BEAMS = 720
 INCREMENT = 2.0 * math.pi / BEAMS
@@ -42,3 +42,23 @@ def test_an_increment_that_moves_the_last_beam_beyond_the_tolerance_is_another_l
     assert layout.fits(ring_scan(increment=within))
     assert not layout.fits(ring_scan(increment=beyond))
     assert not layout.fits(ring_scan(beams=BEAMS - 1))
+
+
+def test_row_norms_are_the_exact_distances_within_two_ulps():
+    rng = np.random.default_rng(3)
+    points = rng.normal(scale=5.0, size=(2000, 2))
+    points[::7] *= 1e-3  # near the sensor too
+    exact = np.array([math.hypot(x, y) for x, y in points.tolist()])  # correctly rounded
+    norms = row_norms(points)
+    assert norms.shape == (2000,)
+    assert np.all(np.abs(norms - exact) <= 2.0 * np.spacing(exact))
+
+
+def test_row_norms_take_any_array_of_points_and_keep_missing_points_missing():
+    points = np.array([[3.0, 4.0], [np.nan, np.nan], [np.inf, 0.0], [0.0, -2.0]])
+    expected = [5.0, np.nan, np.inf, 2.0]
+    np.testing.assert_array_equal(row_norms(points), expected)
+    np.testing.assert_array_equal(row_norms(np.asfortranarray(points)), expected)  # not C-ordered
+    np.testing.assert_array_equal(row_norms(points[::-1]), expected[::-1])  # a view
+    np.testing.assert_array_equal(row_norms(points.astype(np.float32)), expected)
+    assert row_norms(np.zeros((0, 2))).shape == (0,)
