@@ -96,19 +96,26 @@ class BeamLayout:
         """The beam each point lies on, ``(k,)``; -1 where outside the scan's angles."""
         return self.beam_at(points[:, 0], points[:, 1])
 
-    def beam_at(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    def beam_at(self, x: np.ndarray, y: np.ndarray, finite: bool = False) -> np.ndarray:
         """The beam each point ``(x, y)`` lies on, ``(k,)``; -1 where outside the scan's
-        angles."""
+        angles (a non-finite point: -1 off a ring, some beam on a ring).
+
+        ``finite``: the caller vouches that every coordinate is finite (the level view's
+        moved points are), and a ring's beams wrap through one gather from the table of
+        beams, at a third of the cost of an integer remainder. numpy's "wrap" gather
+        steps an index back into range one turn at a time, and a NaN's index (the
+        smallest integer) would take it some 1e16 steps: other points take the remainder.
+        """
         bearing = np.arctan2(y, x)
         bearing -= self.angle_min  # in place: this runs on every beam of every scan
         bearing /= self.increment
         beams = np.rint(bearing, out=bearing).astype(np.intp)
-        # one gather from a table of the beams, at a third of the cost of an integer
-        # remainder or of three masks: on a ring "wrap" takes the index modulo count; off
-        # a ring the table has -1 on either side of the beams, and "clip" maps every index
-        # past them onto one of those
         if self.ring:
-            return self.every_beam().take(beams, mode="wrap")
+            if finite:
+                return self.every_beam().take(beams, mode="wrap")
+            return np.remainder(beams, self.count, out=beams)
+        # off a ring the table has -1 on either side of the beams, and "clip" maps every
+        # index past them onto one of those (one gather, a third of the cost of three masks)
         beams += 1  # (the table's first beam)
         return self._beams_or_outside().take(beams, mode="clip")
 

@@ -232,7 +232,7 @@ class LevelMemory:
             (time_increment, velocity),
         )
         ranges = np.sqrt(x * x + y * y)  # (np.hypot costs twice as much; no overflow in m)
-        beams = layout.beam_at(x, y)
+        beams = layout.beam_at(x, y, finite=True)  # (remembered: at most range_max)
         # the moved points, by their beams; each beam's nearest range is its view already,
         # but points the sensor passed were no surfaces it could meet and are left out (a
         # point moves by the motion's translation, and by the sensor's during half a scan
@@ -395,7 +395,7 @@ class LevelMemory:
                 if free_m is not None:  # (no longer free there)
                     free_m = free_m.copy()
                     free_m[settled] = np.nan
-            carried[0], carried[2] = view.ages, view.farther_s
+            carried[0], carried[2] = view.ages, view.farther_s  # (tilted: these stand still)
             self.state = LevelView(current, carried, free_m)
             return
         # free_margin_m + free_margin_rel * ranges (finite), then the view plus it, in place
@@ -438,7 +438,8 @@ class LevelMemory:
                 dropped_m[gave_up] = ranges.take(gave_up) - current.take(gave_up)
                 dropped_s[gave_up] = 0.0
         # a return near the view, or in front of it, moves it (closer: at most the shrink)
-        np.fmax(ranges, floor, out=current, where=valid > beyond)  # (valid & ~beyond)
+        # where valid & ~beyond (for bools, a > b is a & ~b: one operation, not two)
+        np.fmax(ranges, floor, out=current, where=valid > beyond)
         if settled.size:
             current[settled] = ranges.take(settled)
         if taken:  # space seen free long enough joins the view (beyond it: none of the
@@ -555,13 +556,14 @@ def _forget_carried_silence(
     """
     # per remembered beam: free (or unknown, which a silent scan confirmed and the move
     # makes free space too) and silent now; +inf and NaN both fail "< inf"
-    from_silence = no_echo > (remembered < np.inf)  # (no_echo & ~..., in one operation)
+    # no_echo & ~(remembered < inf): for bools, a > b is a & ~b, in one operation
+    from_silence = no_echo > (remembered < np.inf)
     if not np.count_nonzero(from_silence):  # (a closed room: no silence to carry)
         return
-    carried = returned & from_silence.take(source)
-    if not np.count_nonzero(carried):  # (most scans: no turn, or no silence to carry)
+    carries_silence = returned & from_silence.take(source)
+    if not np.count_nonzero(carries_silence):  # (most scans: no turn, no silence to carry)
         return
-    forget = indices(carried)
+    forget = indices(carries_silence)
     view.carried[:, forget] = _NOTHING
     view.ranges[forget] = np.nan
 

@@ -352,7 +352,11 @@ def score_segments(
         # a rotating scan measures its lines at different tilts: the floor side's strong
         # lines show how steep the plane got, and a ceiling can be that much nearer
         strong_down = gates & (side == down) & (new_counts >= params.down_side_min_new)
-        steepest = tilt.max(initial=down_tilt, where=strong_down)
+        steepest = (
+            max(down_tilt, float(tilt[strong_down].max()))  # (a NaN tilt: down_tilt)
+            if np.count_nonzero(strong_down)  # (any() without its Python layers)
+            else down_tilt
+        )
         too_near = distances < ceiling_min_distance(steepest, params)
         score[(side == -down) & too_near] *= params.up_side_weight
     elif down == 0:  # no strong line, no IMU: no sign of a pitch event in this scan

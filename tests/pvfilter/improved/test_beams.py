@@ -2,6 +2,8 @@
 
 import dataclasses
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -62,3 +64,37 @@ def test_row_norms_take_any_array_of_points_and_keep_missing_points_missing():
     np.testing.assert_array_equal(row_norms(points[::-1]), expected[::-1])  # a view
     np.testing.assert_array_equal(row_norms(points.astype(np.float32)), expected)
     assert row_norms(np.zeros((0, 2))).shape == (0,)
+
+
+def partial_scan(beams=240):
+    return Scan(ranges=np.ones(beams), angle_min=-math.pi / 3, angle_increment=INCREMENT,
+                range_min=0.05, range_max=12.0)  # fmt: skip
+
+
+def test_beam_at_wraps_on_a_ring_and_is_minus_one_outside_a_partial_field_of_view():
+    ring, partial = BeamLayout.of(ring_scan()), BeamLayout.of(partial_scan())
+    angles = np.array([-math.pi, -math.pi + 1.4 * INCREMENT, math.pi - 0.4 * INCREMENT, 0.0])
+    x, y = np.cos(angles), np.sin(angles)
+    expected_ring = [0, 1, 0, BEAMS // 2]  # the last beam's neighbour across the seam is 0
+    np.testing.assert_array_equal(ring.beam_at(x, y), expected_ring)
+    np.testing.assert_array_equal(ring.beam_at(x, y, finite=True), expected_ring)
+    np.testing.assert_array_equal(partial.beam_at(x, y), [-1, -1, -1, 120])
+
+
+def test_beam_at_answers_at_once_for_points_that_are_not_finite():
+    # numpy's wrapping gather steps a NaN's index (the smallest integer) back one turn at a
+    # time: run in a child process, so that a regression fails instead of hanging the suite
+    code = (
+        "import math, numpy as np\n"
+        "from pvfilter import Scan\n"
+        "from pvfilter.improved.beams import BeamLayout\n"
+        "ring = BeamLayout.of(Scan(ranges=np.ones(8), angle_min=-math.pi,"
+        " angle_increment=math.pi / 4, range_min=0.05, range_max=12.0))\n"
+        "beams = ring.beam_at(np.array([np.nan, np.inf, 1.0]), np.array([1.0, np.nan, 0.0]))\n"
+        "assert beams.shape == (3,) and ((beams >= 0) & (beams < 8)).all() and beams[2] == 4\n"
+    )
+    subprocess.run([sys.executable, "-W", "ignore", "-c", code], check=True, timeout=30)
+    partial = BeamLayout.of(partial_scan())
+    with np.errstate(invalid="ignore"):  # (a NaN's index is no integer: numpy says so)
+        beams = partial.beam_at(np.array([np.nan, np.inf]), np.array([0.0, np.nan]))
+    np.testing.assert_array_equal(beams, [-1, -1])

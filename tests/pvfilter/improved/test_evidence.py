@@ -4,7 +4,9 @@ import math
 
 import numpy as np
 import pytest
+from scipy.ndimage import minimum_filter1d
 
+from pvfilter import Scan
 from pvfilter.improved import BeamLayout, ImprovedParams, LevelMemory, Motion, segment_scan
 from pvfilter.improved.evidence import (
     STANDING_FALL_SHARE,
@@ -14,6 +16,7 @@ from pvfilter.improved.evidence import (
     free_space_gaps,
     new_points,
     standing_pitch_change,
+    window_minimum,
 )
 from pvfilter.improved.geometry import floor_shift
 
@@ -280,3 +283,23 @@ def test_recent_scans_keep_the_last_baseline_and_the_motion_since():
     slow.add(0.0, np.ones(3))
     slow.advance(Motion(tx_m=-0.05))
     assert slow.oldest(0.5).first_step_s == pytest.approx(0.5) == slow.oldest(0.5).span_s
+
+
+@pytest.mark.parametrize("ring", [True, False])
+@pytest.mark.parametrize("half", [0, 1, 2, 4, 5, 11])
+def test_window_minimum_is_scipys_minimum_filter_of_the_capped_values(ring, half):
+    count = 11  # (a half window up to the whole scan and beyond)
+    increment = 2.0 * math.pi / count if ring else 0.1
+    scan = Scan(ranges=np.ones(count), angle_min=-math.pi, angle_increment=increment,
+                range_min=0.05, range_max=12.0)  # fmt: skip
+    layout = BeamLayout.of(scan)
+    assert layout.ring == ring
+    values = np.random.default_rng(half).uniform(0.5, 8.0, count)
+    values[[2, 3]] = np.nan, np.inf  # NaN counts as the cap
+    cap = 6.0
+    expected = minimum_filter1d(
+        np.fmin(values, cap), 2 * half + 1, mode="wrap" if ring else "nearest"
+    )
+    least = window_minimum(values, half, layout, cap)
+    np.testing.assert_array_equal(least, expected)
+    assert least is not values and not np.shares_memory(least, values)

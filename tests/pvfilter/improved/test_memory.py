@@ -496,3 +496,30 @@ def test_free_space_is_known_as_far_as_range_max_from_where_it_was_seen():
         view = held.view(layout, 3.5, STILL, STILL, 0.0, PARAMS)
         held.update(wall, nothing, view, 0.1, PARAMS, True, hold=ahead, range_max=3.5)
     assert np.all(held.state.ranges[ahead] == np.inf)
+
+
+def test_a_new_view_carries_its_ages_with_its_clocks_at_zero_and_nothing_given_up():
+    ages = np.array([0.0, 0.5, np.inf])
+    view = LevelView.seen(np.array([1.0, 2.0, np.nan]), ages)
+    np.testing.assert_array_equal(view.ages, ages)
+    np.testing.assert_array_equal(view.ahead_s, 0.0)
+    np.testing.assert_array_equal(view.farther_s, 0.0)
+    np.testing.assert_array_equal(view.dropped_s, np.inf)
+    assert np.isnan(view.dropped_m).all()
+    ages[0] = 9.0  # the view keeps its own copy
+    assert view.ages[0] == 0.0
+
+
+def test_teaching_the_memory_leaves_the_view_it_was_given_as_it_was():
+    scan, _ = room_scan(noise_m=0.0)
+    memory = remembered(scan)
+    view = view_of(memory, scan)
+    before = copy.deepcopy(view)
+    tilted = copy.deepcopy(memory)
+    memory.update(ranges_of(scan) - 0.5, np.isposinf(scan.ranges), view, 0.1, PARAMS, True)
+    tilted.update(ranges_of(scan) - 0.5, np.isposinf(scan.ranges), view, 0.1, PARAMS, False)
+    np.testing.assert_array_equal(view.ranges, before.ranges)
+    np.testing.assert_array_equal(view.carried, before.carried)
+    # each scan runs the clocks on by its time step, in a level and in a tilted scan
+    assert memory.state.ahead_s.max() > 0.0 and tilted.state.ahead_s.max() > 0.0
+    assert not np.shares_memory(memory.state.carried, view.carried)
