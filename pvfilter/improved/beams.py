@@ -140,6 +140,15 @@ class BeamLayout:
             self._remember("every", every)
         return self._tables["every"]
 
+    def beam_numbers(self) -> np.ndarray:
+        """:meth:`every_beam` as floats (cached; not to be changed): sums with a fraction
+        of a beam give the same floats, without converting the integers every scan."""
+        if "numbers" not in self._tables:
+            numbers = np.arange(self.count, dtype=float)
+            numbers.flags.writeable = False
+            self._remember("numbers", numbers)
+        return self._tables["numbers"]
+
     def neighbours(self) -> np.ndarray:
         """Per beam, the beams on either side, ``(count, 2)``: ``i - 1`` and ``i + 1``,
         wrapping on a ring (cached; not to be changed). Off a ring the first and the last

@@ -87,9 +87,7 @@ def floor_shift(
     """
     tilt = np.maximum(np.abs(tilt_rad), 1e-3)
     arm = params.lidar_height_m - params.axle_height_m
-    cos_tilt = np.cos(tilt)
-    height = params.axle_height_m + arm * cos_tilt  # params.scanner_height_m, its cosine kept
-    slope = arm + height * cos_tilt / np.sin(tilt) ** 2
+    slope = arm + params.scanner_height_m(tilt) * np.cos(tilt) / np.sin(tilt) ** 2
     return slope * np.abs(change_rad)
 
 

@@ -100,6 +100,11 @@ NEAREST_SURFACE_M = 0.05  # m: no surface the scanner saw lies nearer to it than
 # housing (a LiDAR's radius is a few centimetres)
 
 
+def _carried_row(row: int, doc: str) -> property:
+    """A property reading row ``row`` of a :class:`LevelView`'s ``carried`` block."""
+    return property(lambda view: view.carried[row], doc=doc)
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class LevelView:
     """The level view per beam of one scan.
@@ -119,31 +124,16 @@ class LevelView:
     carried: np.ndarray
     free_m: np.ndarray | None = None
 
-    @property
-    def ages(self) -> np.ndarray:
-        """s since a level return last confirmed the beam."""
-        return self.carried[0]
-
-    @property
-    def ahead_s(self) -> np.ndarray:
-        """s for which the beam's returns have been in front of the view."""
-        return self.carried[1]
-
-    @property
-    def farther_s(self) -> np.ndarray:
-        """s for which the beam's level returns have been beyond the view."""
-        return self.carried[2]
-
-    @property
-    def dropped_s(self) -> np.ndarray:
-        """s since the view gave up the surface of :attr:`dropped_m`."""
-        return self.carried[3]
-
-    @property
-    def dropped_m(self) -> np.ndarray:
-        """How far in front of the view stood the surface it gave up when space seen free
-        beyond it joined, m (NaN: none)."""
-        return self.carried[4]
+    # the rows of ``carried``, by name (views: a write changes the block)
+    ages = _carried_row(0, "s since a level return last confirmed the beam.")
+    ahead_s = _carried_row(1, "s for which the beam's returns have been in front of the view.")
+    farther_s = _carried_row(2, "s for which the beam's level returns have been beyond the view.")
+    dropped_s = _carried_row(3, "s since the view gave up the surface of :attr:`dropped_m`.")
+    dropped_m = _carried_row(
+        4,
+        "How far in front of the view stood the surface it gave up when space seen free "
+        "beyond it joined, m (NaN: none).",
+    )
 
     def known_free_m(self) -> np.ndarray:
         """Per beam, where the view lies for new returns, m: its surface, or on a free

@@ -241,18 +241,9 @@ def estimate_motion(
     normal = design.T.dot(design).tolist()  # (once: the solve and the weak direction)
     solution = _solve(design, target, expected_turn, weights, normal)
     median = _median(_residuals(design, solution, target), scratch=True)
-    # the coarse motion followed by the fine step, as coarse.then(fine) composes them,
-    # written out: one Motion made instead of three
-    turn, tx, ty = solution
-    c, s = math.cos(turn), math.sin(turn)
-    motion = motion_of(
-        coarse.theta_rad + turn,
-        c * coarse.tx_m - s * coarse.ty_m + tx,
-        s * coarse.tx_m + c * coarse.ty_m + ty,
-        int(keep.size),
-        median,
-    )
-    fields = motion.__dict__
+    motion = coarse.then(motion_of(*solution))
+    fields = motion.__dict__  # (a Motion of its own, just made: see motion_of)
+    fields["pairs"], fields["residual_m"] = int(keep.size), median
     fields["weak_rows"], fields["weak_axis_rad"], _ = weak_direction(normal)
     return motion
 

@@ -13,7 +13,6 @@ plane sees it.
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
@@ -149,7 +148,7 @@ def move_xy(
     # the point lands about theta / increment beams away from where it was seen (on a ring,
     # past the seam it is seen a scan period earlier or later)
     turn_beams = motion.theta_rad / layout.increment
-    landing = (_beam_numbers(layout.count) if every else beams) + turn_beams
+    landing = (layout.beam_numbers() if every else beams) + turn_beams
     if layout.ring:
         _wrap_once(landing, turn_beams, layout.count, every)
     else:
@@ -181,16 +180,6 @@ def move_xy(
     shift += motion.ty_m
     moved_y += shift
     return moved_x, moved_y
-
-
-@functools.cache
-def _beam_numbers(count: int) -> np.ndarray:
-    """The beam indices ``0 .. count - 1`` as floats (not to be changed): the same sums
-    with a turn as the integer indices give, without converting them on every scan (half
-    the cost of the addition)."""
-    numbers = np.arange(count, dtype=float)
-    numbers.flags.writeable = False
-    return numbers
 
 
 def _wrap_once(landing: np.ndarray, turn_beams: float, count: int, ascending: bool = False) -> None:
