@@ -179,6 +179,23 @@ def test_a_lagging_imu_vetoes_no_line_the_body_could_have_tilted_to_since_its_es
     assert not result.imu_contradicted
 
 
+def test_a_line_on_the_imus_up_side_is_weighted_as_the_up_side_once():
+    # the IMU shows the plane 6 deg nose up: the floor is behind; ahead, a new line at
+    # 1.6 m is no floor, nor a ceiling (none nearer than 15.8 m at 6 deg), but a surface
+    # above the scanner that the rising plane meets (a table's underside, 0.17 m above
+    # it): weighted as the up side is, not vetoed as a floor line besides
+    nose_up = Attitude(math.radians(-6.0), 0.0, math.radians(2.0))
+    assert nose_up.tilted and nose_up.down_side == -1
+    _, result = scored(line(1.6, -1.5, 1.6, 1.5, 60), attitude=nose_up)
+    assert result.scan_scores[0] == pytest.approx(PARAMS.up_side_weight)
+    assert result.scores[0] == pytest.approx(PARAMS.up_side_weight)
+    # with the IMU level, the same line needs 9 deg nose down that the IMU cannot explain
+    level = Attitude(0.0, 0.0, math.radians(2.0))
+    _, result = scored(line(1.6, -1.5, 1.6, 1.5, 60), attitude=level)
+    assert result.scores[0] == pytest.approx(PARAMS.up_side_weight)
+    assert result.imu_contradicted
+
+
 def test_an_imu_that_shows_the_plane_level_lends_no_line_its_support():
     # a band as wide as a lagging estimator earns (5 deg), the estimate level: the IMU
     # cannot tell a plane tilted 4 deg from a level one, so a wall ahead at the floor's
