@@ -46,11 +46,12 @@ Per segment (:mod:`pvfilter.improved.segmentation`):
    IMU does not show the plane tilted down on that side; the estimate's sign counts: a
    line ahead needs the plane nose down by the line's tilt, one behind nose up, so an
    estimate 1.5° nose up is 4.5° from a floor line 3° ahead) is weighted like a line on
-   the up side; once: on the up side of a plane the IMU shows tilted, the up side's own
-   weight is that (a line there nearer than a ceiling can be is no floor line to veto
-   again, but a surface above the scanner that the rising plane meets, a table's
-   underside or a shelf: on the tenth independent generator with the IMU, set means
-   0.778 / 0.908 / 0.717 to 0.782 / 0.908 / 0.728). The IMU's band
+   the up side, and only once: on the up side of a plane the IMU shows tilted, the up
+   side's own weight has applied already. A line there nearer than a ceiling can be is
+   no floor line to veto again, but a surface above the scanner that the rising plane
+   meets, a table's underside or a shelf (on the tenth independent generator with the
+   IMU, weighting it once moved the set means 0.778 / 0.908 / 0.717 to 0.782 / 0.908 /
+   0.728). The IMU's band
    widens when the scans' confident lines show it off (:mod:`pvfilter.improved.imu`).
    Only an IMU that shows the plane tilted by at least ``IMU_PLACE_FACTOR`` times its
    band supports a line: a level estimate cannot tell a tilted plane from a level one,
