@@ -376,8 +376,6 @@ def score_segments(
         support = IMU_SUPPORT * not_static
         support[beyond] *= params.up_side_weight
         score = np.where(gates & agree, 1.0 - (1.0 - score) * (1.0 - support), score)
-        if attitude.tilted:  # the up side has its weight already (above)
-            contradict &= side == attitude.down_side
         score[contradict] *= params.up_side_weight
     if kept is not None:
         kept &= (not_static >= HELD_NOT_STATIC) & ~beyond
@@ -644,7 +642,8 @@ def _imu_agreement(
     """Per segment: the IMU's pitch puts the floor or a ceiling on its line; or it cannot
     (a floor there would need the plane tilted down on the line's side by more than the
     IMU's pitch that way and its band allow); and it is vetoed (it would need more than
-    the band and ``reach_rad`` together)."""
+    the band and ``reach_rad`` together, and the IMU shows no tilt: where it does, such a
+    line lies on its up side, which that side's own weight has weighed already)."""
     error, magnitude = attitude.error_rad, attitude.tilt_rad
     agree = np.zeros(len(distances), dtype=bool)
     if magnitude >= IMU_PLACE_FACTOR * error:  # else the IMU cannot tell where the floor is
@@ -659,4 +658,6 @@ def _imu_agreement(
     # estimate's sign counts: nose up by 1 deg puts a floor line ahead 1 deg farther off)
     past = tilt - side * attitude.pitch_rad
     beyond = unexplained & (past > error)
+    if attitude.tilted:
+        return agree, beyond, np.zeros(len(distances), dtype=bool)
     return agree, beyond, beyond & (past > error + attitude.reach_rad)
