@@ -121,8 +121,9 @@ class _MatchOutcome:
         match: the ego-motion (its step the prior's where the scan coasts).
         fresh: the filter starts afresh at this scan (a re-baseline).
         coast: the match failed and the prior carries the motion.
-        onset: the match failed on a level scan without odometry: the scan coasts if it
-            shows a pitch event (a strong candidate line), else the filter re-baselines.
+        onset: the match failed on a level scan (without odometry, or on odometry that
+            has proven itself): the scan coasts if it shows a pitch event (a strong
+            candidate line), else the filter re-baselines.
         travel_seen: the step's drive was measured in every direction: by the wheels, or
             by a trusted match with support along all of them (not a guess coasted on).
         wheels_slipped: the odometry's step disagreed with both the match made without
@@ -421,9 +422,11 @@ class ImprovedPitchVariationFilter:
         in a pitch event (the last scan was tilted), and on wheel odometry that has proven
         itself: the first tilted scan of an event fails its match before the filter
         knows the event began. Without odometry such a level scan coasts on the guess
-        too, as an **onset**: if it shows no pitch event after all (no strong candidate
-        line), the filter re-baselines and the scan removes nothing. Otherwise an
-        untrusted match re-baselines. ``wheels``: the prior is the wheel odometry's.
+        too. Either way it is an **onset**: if it shows no pitch event after all (no
+        strong candidate line), the filter re-baselines and the scan removes nothing
+        (a scanner blinded for seconds, pressed against a counter, coasted on the wheels
+        through every scan and lost a pitch event among them). Otherwise an untrusted
+        match re-baselines. ``wheels``: the prior is the wheel odometry's.
         A match that fails against the odometry is made again without it: where the
         wheels slipped (a shove spins one), it carries the motion instead of them, and the
         scan goes on as without odometry (deskewed with the velocity before).
@@ -464,9 +467,13 @@ class ImprovedPitchVariationFilter:
                 return _MatchOutcome(alone, travel_seen=seen, wheels_slipped=True), without
         in_event = 0.0 < self._tilted_s <= self.params.max_event_s
         known = self._ego.reference is not None
-        onset = self._tilted_s == 0.0 and known and pose is None
-        proven = self._tilted_s == 0.0 and known and pose is not None and self._ego.odometry_proven
-        if not (in_event or onset or proven):
+        # a level scan coasts only if it shows a pitch event after all (checked once
+        # detected), on the guess or on wheels that have proven themselves: on wheels,
+        # coasting through every failed match would take a blinded scanner's level scans
+        # for tilted ones, and a pitch event among them would find no view to compare with
+        trusted_prior = pose is None or self._ego.odometry_proven
+        onset = self._tilted_s == 0.0 and known and trusted_prior
+        if not (in_event or onset):
             self._rebaseline()
             return _AFRESH, prepared
         # the next step starts from the wheels' pose now, slipped or not: from None, the
